@@ -1,0 +1,1 @@
+"""arm: filled in by later issues."""

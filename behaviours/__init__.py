@@ -1,0 +1,1 @@
+"""behaviours: filled in by later issues."""

@@ -1,0 +1,146 @@
+"""Configuration of the hardware services (base control, mux, e-stop, LEDs, servos).
+
+Every default is a number from the hardware seed (../shared/seeds/000_*) or the hardware
+reference; the field docstrings say which and why. Override in YAML or ``LUPIN_HW__...``.
+"""
+from __future__ import annotations
+
+import math
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", use_attribute_docstrings=True, validate_assignment=True)
+
+
+class PidGains(_Strict):
+    p: float = 1.5
+    """Proportional gain of pid_wheels_controller (seed: p 1.5)."""
+    i: float = 0.5
+    """Integral gain (seed: i 0.5)."""
+    d: float = 0.01
+    """Derivative gain (seed: d 0.01)."""
+    i_clamp: float = Field(15.0, gt=0)
+    """Anti-windup clamp on the integral term, +-rad/s of wheel command (seed: i_clamp +-15)."""
+    antiwindup: bool = True
+    """Seed: antiwindup on. Stops integrating while the output saturates."""
+    feedforward: float = 1.0
+    """Reference feed-forward gain. The seed's PID closes the loop on wheel *velocity* at only
+    10 Hz; with p 1.5 alone the integral would have to carry the whole command. ros2_control's
+    pid_controller feeds the reference forward, and so do we (untuned on the robot)."""
+
+
+class BaseConfig(_Strict):
+    wheel_radius: float = Field(0.051, gt=0)
+    """Mecanum wheel radius, m (seed: wheels_radius 0.051)."""
+    lx_plus_ly: float = Field(0.225, gt=0)
+    """Sum of the wheel centre projections, m (seed: 0.18/2 + 0.27/2 = 0.225)."""
+    ticks_per_rev: int = Field(1320, gt=0)
+    """Encoder ticks per wheel revolution with 4x decoding (vendor: 11 ppr * 30 reduction * 4)."""
+    max_wheel_speed: float = Field(6 * math.pi, gt=0)
+    """Wheel speed at 100 % duty, rad/s (hardware reference: 100 % = 6*pi rad/s)."""
+    control_rate: float = Field(10.0, gt=0)
+    """Controller-manager update rate, Hz (seed: update_rate 10, every command is a 100 ms beat)."""
+    pid: PidGains = PidGains()
+    """Per-wheel velocity PID (seed: pid_wheels_controller)."""
+    encoder_signs: tuple[int, int, int, int] = (1, 1, 1, 1)
+    """Per-wheel encoder sign in WHEELS order, for wiring that counts backwards."""
+    motor_signs: tuple[int, int, int, int] = (1, 1, 1, 1)
+    """Per-wheel duty sign in WHEELS order (the seed's drive inversion was fixed at the pin level)."""
+
+
+class MuxSource(_Strict):
+    priority: int
+    """Higher wins while live."""
+    timeout: float = Field(gt=0)
+    """Seconds of silence after which the source stops counting (twist_mux.yaml)."""
+
+
+def _default_sources() -> dict[str, MuxSource]:
+    return {
+        "joy": MuxSource(priority=100, timeout=0.3),
+        "manual": MuxSource(priority=50, timeout=0.5),
+        "auto": MuxSource(priority=10, timeout=0.5),
+    }
+
+
+class MuxConfig(_Strict):
+    sources: dict[str, MuxSource] = Field(default_factory=_default_sources)
+    """Seed twist_mux table: dead-man joy 100/0.3 s, operator manual 50/0.5 s, autonomy
+    auto 10/0.5 s. The idle zero guard (priority 1) is built in and always live."""
+    zero_guard_priority: int = 1
+    """Seed: the bus's idle zero publisher sits at priority 1, below every real source."""
+
+
+class EStopConfig(_Strict):
+    engaged_level: int = Field(1, ge=0, le=1)
+    """Pin level that means 'pressed'. UNVERIFIED on the robot (seed): logged loudly at start-up;
+    press the button and check the state goes true, else flip this."""
+    publish_rate: float = Field(5.0, gt=0)
+    """E-stop state publish rate, Hz (seed: estop_bridge publishes /e_stop_state at 5 Hz)."""
+
+
+class LedConfig(_Strict):
+    color_order: str = "BRG"
+    """Wire order of the strip's three bytes. Mirte-247264's strip is BRG (seed)."""
+    num_leds: int = Field(8, gt=0)
+    """Pixels on the strip (vendor strip length; only affects how many pixels are written)."""
+
+    @field_validator("color_order")
+    @classmethod
+    def _permutation_of_rgb(cls, v: str) -> str:
+        if sorted(v.upper()) != ["B", "G", "R"]:
+            raise ValueError("must be a permutation of 'RGB', e.g. 'BRG' or 'GRB'")
+        return v.upper()
+
+
+class ServoCalib(_Strict):
+    id: int = Field(ge=0, le=253)
+    """Hiwonder bus id (seed: ids 2-6)."""
+    home: int
+    """Vendor home, centidegrees (mirte_master_config.yaml); rad = (raw - home)/100 * pi/180."""
+    min: int
+    """Vendor raw software limit, centidegrees."""
+    max: int
+    """Vendor raw software limit, centidegrees."""
+
+
+def _default_servos() -> dict[str, ServoCalib]:
+    return {
+        "shoulder_pan": ServoCalib(id=2, home=12000, min=3400, max=21000),
+        "shoulder_lift": ServoCalib(id=3, home=11450, min=2832, max=20000),
+        "elbow": ServoCalib(id=4, home=11750, min=120, max=21000),
+        "wrist": ServoCalib(id=5, home=12200, min=1128, max=21000),
+        "gripper": ServoCalib(id=6, home=10524, min=6168, max=14224),
+    }
+
+
+class ServoBusConfig(_Strict):
+    joints: dict[str, ServoCalib] = Field(default_factory=_default_servos)
+    """Joint -> servo id and vendor raw range (hardware reference, MIRTE vendor config)."""
+    centideg_per_count: float = 24.0
+    """Hiwonder position: 0..1000 counts over 240 deg, i.e. 24 centidegrees per count."""
+
+
+class HwConfig(_Strict):
+    """Hardware services: the same in sim and on the robot."""
+
+    base: BaseConfig = BaseConfig()
+    """Mecanum base: kinematics, encoders, wheel PID (seed: mirte_base_control.yaml)."""
+    mux: MuxConfig = MuxConfig()
+    """The twist_mux: the only path from any velocity source to the wheels."""
+    estop: EStopConfig = EStopConfig()
+    """The e-stop bridge: physical button OR operator soft stop."""
+    leds: LedConfig = LedConfig()
+    """The status LED strip and its wire colour order."""
+    servos: ServoBusConfig = ServoBusConfig()
+    """The Hiwonder servo bus: ids and vendor raw ranges."""
+    controllers: tuple[str, ...] = (
+        "joint_state_broadcaster",
+        "pid_wheels_controller",
+        "mirte_master_arm_controller",
+        "mirte_master_gripper_controller",
+        "mirte_base_controller",
+    )
+    """The five controllers the boot heal brings to active (seed: auto_home.py)."""

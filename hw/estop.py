@@ -1,0 +1,100 @@
+"""The e-stop bridge: the physical button OR the operator's soft stop, as one engaged state.
+
+Seed (estop_bridge): the original robot's autonomous e-stop was decorative. The mission watched
+a topic nothing published, the button's message had no subscribers, and the HMI STOP only
+zeroed the client's own cmd_vel, so pressing either never froze the mission. The bridge closed
+that seam: it ORs the physical button with the soft stop and publishes the result at 5 Hz as the
+single publisher, so a late-joining consumer always converges.
+
+Two paths out of this module, on purpose:
+
+* ``engaged()`` reads the pin *now*. The base controller calls it on every 10 Hz tick, so the
+  wheels see a press on the very next control tick, not up to 200 ms later at the next publish.
+* ``publish(now)`` is the 5 Hz task: it records the state, notifies subscribers (the mission
+  tree, LEDs, telemetry) and appends to ``events`` only when the state changes (the report's
+  ``estop_events``).
+
+Polarity (``EStopConfig.engaged_level``) is NOT verified on the robot (seed). It is logged loudly
+at start-up precisely so someone checks it: press the button and watch the state go true; if it
+does not, flip ``LUPIN_HW__ESTOP__ENGAGED_LEVEL``. A safety interlock is only real if pressing
+the button actually stops the robot.
+
+Fail safe: if the button cannot be read (``DeviceError``/``OSError``: the GPIO line vanished, the
+sim backend failed), the bridge reports ENGAGED and logs it once per failure streak.
+"""
+from __future__ import annotations
+
+import logging
+from typing import Callable
+
+from hw.config import EStopConfig
+from hw.interfaces import DeviceError, EStopButton
+
+EStopCallback = Callable[[float, bool], None]
+
+
+class EStopBridge:
+    def __init__(self, config: EStopConfig, button: EStopButton, log: logging.Logger | None = None):
+        self.config = config
+        self.button = button
+        self.log = log if log is not None else logging.getLogger(__name__)
+        self.soft = False
+        self.state = False
+        """The last *published* state (5 Hz); ``engaged()`` is the live one."""
+        self.events: list[tuple[float, bool]] = []
+        """(t, engaged) at every published change, starting from an implicit 'released'."""
+        self._subscribers: list[EStopCallback] = []
+        self._read_failing = False
+        self._log_polarity()
+
+    def _log_polarity(self) -> None:
+        level = self.config.engaged_level
+        bar = "!" * 72
+        self.log.warning(
+            "\n%s\n"
+            "E-STOP POLARITY ASSUMED, UNVERIFIED ON THE ROBOT: pin level %d means PRESSED "
+            "(level %d means released).\n"
+            "Check it: press the physical e-stop and confirm the e-stop state goes ENGAGED.\n"
+            "If it does not, flip it: LUPIN_HW__ESTOP__ENGAGED_LEVEL=%d (or hw.estop.engaged_level "
+            "in the config file).\n%s",
+            bar, level, 1 - level, 1 - level, bar,
+        )
+
+    def set_soft(self, engaged: bool) -> None:
+        """The operator's soft stop (console STOP, the ``soft_estop`` event)."""
+        self.soft = bool(engaged)
+
+    def button_pressed(self) -> bool:
+        """The button's state right now; an unreadable button counts as pressed (fail safe)."""
+        try:
+            level = self.button.read_level()
+        except (DeviceError, OSError) as exc:
+            if not self._read_failing:
+                self.log.error("e-stop button unreadable (%s): treating the e-stop as ENGAGED", exc)
+                self._read_failing = True
+            return True
+        if self._read_failing:
+            self.log.warning("e-stop button readable again (level %d)", level)
+            self._read_failing = False
+        return int(level) == self.config.engaged_level
+
+    def engaged(self) -> bool:
+        """Live state: the button (read now) OR the soft stop."""
+        # Read the button even when soft-stopped, so a failing pin is still noticed and logged.
+        pressed = self.button_pressed()
+        return pressed or self.soft
+
+    def subscribe(self, callback: EStopCallback) -> None:
+        """``callback(now, engaged)`` on every publish (5 Hz), changed or not."""
+        self._subscribers.append(callback)
+
+    def publish(self, now: float) -> bool:
+        """The 5 Hz task: sample, record changes, notify subscribers. Returns the state."""
+        engaged = self.engaged()
+        if engaged != self.state:
+            self.events.append((now, engaged))
+            self.log.info("e-stop %s at t=%.3f", "ENGAGED" if engaged else "released", now)
+        self.state = engaged
+        for callback in self._subscribers:
+            callback(now, engaged)
+        return engaged

@@ -1,0 +1,74 @@
+"""`lupin bench`: the project's benchmark harness.
+
+A benchmark is a function ``(config) -> Sample`` registered under a dotted name
+("sim.realtime"); ``lupin bench sim`` runs every benchmark in the ``sim`` group. Each reports
+the median and p95 of its samples in milliseconds plus its own figures (a real-time factor,
+say). Wall time is read here, in the harness, never in the runtime or in tests.
+"""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from hw.errors import InputError
+from mission.config import LupinConfig
+
+
+@dataclass
+class Sample:
+    """Per-iteration wall times (ms) and benchmark-specific figures."""
+
+    times_ms: list[float]
+    figures: dict = field(default_factory=dict)
+
+
+BENCHMARKS: dict[str, Callable[[LupinConfig], Sample]] = {}
+
+
+def benchmark(name: str):
+    def register(fn: Callable[[LupinConfig], Sample]):
+        BENCHMARKS[name] = fn
+        return fn
+
+    return register
+
+
+def _load_all() -> None:
+    import sim.bench  # noqa: F401  (registers the sim benchmarks)
+
+
+def select(names: list[str]) -> list[str]:
+    """Benchmarks matching ``names`` exactly or as a group prefix; all when empty."""
+    _load_all()
+    if not names:
+        return list(BENCHMARKS)
+    chosen = []
+    for n in names:
+        hits = [b for b in BENCHMARKS if b == n or b.startswith(n + ".")]
+        if not hits:
+            raise InputError(f"bench: unknown benchmark {n!r}; known: {', '.join(BENCHMARKS)}")
+        chosen += [h for h in hits if h not in chosen]
+    return chosen
+
+
+def summarise(name: str, sample: Sample) -> dict:
+    t = np.asarray(sample.times_ms, dtype=float)
+    return {"name": name, "median_ms": round(float(np.median(t)), 3),
+            "p95_ms": round(float(np.percentile(t, 95)), 3), "n": int(t.size), **sample.figures}
+
+
+def run(names: list[str], as_json: bool, config: LupinConfig) -> list[dict]:
+    out = []
+    for name in select(names):
+        row = summarise(name, BENCHMARKS[name](config))
+        out.append(row)
+        if as_json:
+            print(json.dumps(row), flush=True)
+        else:
+            extra = ", ".join(f"{k} {v}" for k, v in row.items() if k not in ("name", "median_ms", "p95_ms", "n"))
+            print(f"{name:<16} median {row['median_ms']:9.3f} ms  p95 {row['p95_ms']:9.3f} ms  n {row['n']:4d}"
+                  + (f"  ({extra})" if extra else ""), flush=True)
+    return out

@@ -1,0 +1,108 @@
+"""One configuration schema for the whole runtime, validated once at start-up.
+
+Layers, lowest first: defaults in code (each field's docstring says why, citing the seed),
+a YAML override file, then ``LUPIN_*`` environment variables. Environment names use ``__``
+between levels, e.g. ``LUPIN_HW__BASE__PID__P=2.0`` or ``LUPIN_SIM__SEED=7``; values are
+parsed as YAML scalars. Variables whose first level is not a section of the schema are left
+alone (they belong to other tools). The config actually used is saved beside each run's output.
+"""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any, Mapping
+
+import yaml
+from pydantic import BaseModel, ConfigDict, ValidationError
+
+from hw.config import HwConfig
+from hw.errors import InputError
+from sim.config import SimConfig
+
+ENV_PREFIX = "LUPIN_"
+CONFIG_FILENAME = "config.yaml"
+
+
+class LupinConfig(BaseModel):
+    """The root: one sub-model per package."""
+
+    model_config = ConfigDict(extra="forbid", use_attribute_docstrings=True)
+
+    hw: HwConfig = HwConfig()
+    """Hardware services: base control, twist_mux, e-stop bridge, LEDs, servo bus."""
+    sim: SimConfig = SimConfig()
+    """The MuJoCo greenhouse backend."""
+
+
+def _merge(base: dict, override: Mapping) -> dict:
+    out = dict(base)
+    for key, value in override.items():
+        if isinstance(value, Mapping) and isinstance(out.get(key), dict):
+            out[key] = _merge(out[key], value)
+        else:
+            out[key] = value
+    return out
+
+
+def _env_overrides(env: Mapping[str, str]) -> dict:
+    sections = set(LupinConfig.model_fields)
+    tree: dict[str, Any] = {}
+    for name, raw in sorted(env.items()):
+        if not name.startswith(ENV_PREFIX):
+            continue
+        path = [part.lower() for part in name[len(ENV_PREFIX):].split("__")]
+        if path[0] not in sections:
+            continue
+        try:
+            value = yaml.safe_load(raw) if raw != "" else ""
+        except yaml.YAMLError:
+            value = raw
+        node = tree
+        for part in path[:-1]:
+            node = node.setdefault(part, {})
+        node[path[-1]] = value
+    return tree
+
+
+def _format(err: ValidationError, source: str) -> str:
+    parts = []
+    for e in err.errors():
+        where = ".".join(str(x) for x in e["loc"]) or "(top level)"
+        parts.append(f"{where}: {e['msg']}")
+    return f"invalid config ({source}): " + "; ".join(parts)
+
+
+def load_config(path: str | Path | None = None, env: Mapping[str, str] | None = None) -> LupinConfig:
+    """Defaults <- YAML file <- environment, validated once; InputError names what is wrong."""
+    env = os.environ if env is None else env
+    data: dict = {}
+    sources = ["defaults"]
+    if path is not None:
+        path = Path(path)
+        try:
+            loaded = yaml.safe_load(path.read_text())
+        except OSError as exc:
+            raise InputError(f"cannot read config file {path}: {exc.strerror}") from None
+        except yaml.YAMLError as exc:
+            raise InputError(f"config file {path} is not valid YAML: {exc}") from None
+        if loaded is not None and not isinstance(loaded, Mapping):
+            raise InputError(f"config file {path}: top level must be a mapping of sections")
+        data = _merge(data, loaded or {})
+        sources.append(str(path))
+    overrides = _env_overrides(env)
+    if overrides:
+        data = _merge(data, overrides)
+        sources.append("LUPIN_* environment")
+    try:
+        return LupinConfig.model_validate(data)
+    except ValidationError as exc:
+        raise InputError(_format(exc, " + ".join(sources))) from None
+
+
+def save_config(config: LupinConfig, directory: str | Path) -> Path:
+    """Write the config actually used next to a run's output, so any run can be reproduced."""
+    directory = Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    out = directory / CONFIG_FILENAME
+    out.write_text(yaml.safe_dump(config.model_dump(mode="json"), sort_keys=False))
+    return out

@@ -1,0 +1,72 @@
+"""Robot assembly: the hardware services wired onto a HAL and put on the scheduler.
+
+Reads like a table of contents of what runs below the mission, and at what beat:
+
+====================  =========  ==============================================
+task                  rate       why (seed)
+====================  =========  ==============================================
+base                  10 Hz      controller_manager update_rate: 10
+estop                 5 Hz       estop_bridge publishes /e_stop_state at 5 Hz
+leds                  5 Hz       status strip follows drive / e-stop activity
+====================  =========  ==============================================
+
+Every velocity source publishes into ``mux``; the base controller reads only the mux, and
+checks the e-stop bridge itself on every tick, so the wheels stop on the very next tick after
+a press even if everything above hangs.
+"""
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+
+from hw.base_controller import BaseController
+from hw.controller_manager import ControllerManager
+from hw.estop import EStopBridge
+from hw.interfaces import Hal
+from hw.leds import LedStatus
+from hw.twist_mux import TwistMux
+from mission.config import LupinConfig
+from mission.scheduler import Scheduler
+
+log = logging.getLogger("lupin")
+
+LED_RATE = 5.0
+
+
+@dataclass
+class Robot:
+    config: LupinConfig
+    hal: Hal
+    scheduler: Scheduler
+    controllers: ControllerManager
+    mux: TwistMux
+    estop: EStopBridge
+    base: BaseController
+    leds: LedStatus
+    extra: dict = field(default_factory=dict)
+
+    def _led_tick(self, now: float) -> None:
+        if self.estop.engaged():
+            state = "estop"
+        elif any(abs(v) > 1e-3 for v in (self.base.command.vx, self.base.command.vy, self.base.command.wz)):
+            state = "driving"
+        else:
+            state = "standby"
+        self.leds.show(state)
+
+    def start(self) -> None:
+        hw = self.config.hw
+        self.scheduler.every("base", hw.base.control_rate, self.base.tick)
+        self.scheduler.every("estop", hw.estop.publish_rate, self.estop.publish)
+        self.scheduler.every("leds", LED_RATE, self._led_tick)
+
+
+def build_robot(config: LupinConfig, hal: Hal, controllers: ControllerManager | None = None) -> Robot:
+    """Assemble the hardware services on ``hal``; call ``start()`` to schedule them."""
+    hw = config.hw
+    controllers = controllers or ControllerManager(hw.controllers)
+    mux = TwistMux(hw.mux)
+    estop = EStopBridge(hw.estop, hal.estop_button, log)
+    base = BaseController(hw.base, hal.wheels, hal.encoders, mux, estop, controllers)
+    leds = LedStatus(hw.leds, hal.leds)
+    return Robot(config, hal, Scheduler(hal.clock), controllers, mux, estop, base, leds)

@@ -1,0 +1,116 @@
+"""`lupin sim ...`: generate worlds, drive a route, render snapshots."""
+from __future__ import annotations
+
+import json
+import math
+import sys
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from hw.errors import InputError
+from mission.config import LupinConfig, load_config, save_config
+from mission.route import ROUTES
+
+sim_app = typer.Typer(help="The simulated greenhouse.", no_args_is_help=True)
+
+
+def run_config(ctx: typer.Context) -> LupinConfig:
+    """The validated config of this invocation (--config file + LUPIN_* environment)."""
+    obj = ctx.find_root().obj or {}
+    return load_config(obj.get("config_path"))
+
+
+def _world(path: Optional[Path]):
+    from sim.world import load_default_world, load_world
+
+    return load_default_world() if path is None else load_world(path)
+
+
+def _seeded(config: LupinConfig, seed: Optional[int]) -> LupinConfig:
+    if seed is None:
+        return config
+    return config.model_copy(update={"sim": config.sim.model_copy(update={"seed": seed})})
+
+
+def parse_pose(text: str) -> tuple[float, float, float]:
+    """'X,Y,YAW' in metres and radians, world frame."""
+    parts = text.split(",")
+    try:
+        x, y, yaw = (float(p) for p in parts)
+    except ValueError:
+        raise InputError(f"--pose {text!r}: expected X,Y,YAW (metres, metres, radians), e.g. 1.0,0.5,0") from None
+    if not all(math.isfinite(v) for v in (x, y, yaw)):
+        raise InputError(f"--pose {text!r}: values must be finite numbers")
+    return x, y, yaw
+
+
+@sim_app.command("generate")
+def generate(
+    rows: int = typer.Option(..., "--rows", help="Rows of pots."),
+    pots_per_row: int = typer.Option(..., "--pots-per-row", help="Pots in each row."),
+    seed: int = typer.Option(..., "--seed", help="Random seed (same seed, same world)."),
+    output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write here instead of stdout."),
+) -> None:
+    """Write a generated world file: rows of pots with ~0.8 m aisles."""
+    from sim.generate import generate_world
+    from sim.world import dump_world
+
+    try:
+        text = dump_world(generate_world(rows, pots_per_row, seed))
+    except ValueError as exc:
+        raise InputError(f"sim generate: {exc}") from None
+    if output is None:
+        sys.stdout.write(text)
+        return
+    try:
+        output.write_text(text)
+    except OSError as exc:
+        raise InputError(f"cannot write {output}: {exc.strerror}") from None
+    print(f"wrote {output}")
+
+
+@sim_app.command("drive")
+def drive(
+    ctx: typer.Context,
+    world: Optional[Path] = typer.Option(None, "--world", help="World file (default: the built-in greenhouse)."),
+    route: str = typer.Option("tour", "--route", help=f"Route: {', '.join(ROUTES)}."),
+    seed: Optional[int] = typer.Option(None, "--seed", help="Sim seed (overrides config)."),
+    out: Path = typer.Option(Path("lupin-drive"), "--out", help="Directory for drive.json and config.yaml."),
+) -> None:
+    """Drive a scripted route and print wheel odometry against the sim's ground truth."""
+    if route not in ROUTES:
+        raise InputError(f"--route {route!r}: unknown route; known: {', '.join(ROUTES)}")
+    config = _seeded(run_config(ctx), seed)
+    w = _world(world)
+    from mission.drive_job import drive as run_drive
+    from mission.drive_report import format_results, results_json
+
+    run = run_drive(w, config, route)
+    print(format_results(run))
+    out.mkdir(parents=True, exist_ok=True)
+    save_config(config, out)
+    (out / "drive.json").write_text(json.dumps(results_json(run), indent=2))
+    if not run.driver.done:
+        print(f"route {route!r} did not finish within the time limit", file=sys.stderr)
+        raise typer.Exit(1)
+
+
+@sim_app.command("snapshot")
+def snapshot(
+    ctx: typer.Context,
+    output: Path = typer.Option(..., "-o", "--output", help="PNG file to write."),
+    world: Optional[Path] = typer.Option(None, "--world", help="World file (default: the built-in greenhouse)."),
+    pose: Optional[str] = typer.Option(None, "--pose", help="Robot pose X,Y,YAW in the world frame (default: spawn)."),
+    camera: str = typer.Option("front", "--camera", help="front | wrist | overview"),
+) -> None:
+    """Render a camera with the robot at a pose (arm at inspect for the wrist camera) to PNG."""
+    if camera not in ("front", "wrist", "overview"):
+        raise InputError(f"--camera {camera!r}: expected front, wrist or overview")
+    xyyaw = parse_pose(pose) if pose is not None else None
+    from sim.snapshot import render_snapshot, write_png
+
+    image = render_snapshot(_world(world), run_config(ctx), camera, xyyaw)
+    write_png(output, image)
+    print(f"wrote {output} ({image.shape[1]}x{image.shape[0]}, {camera} camera)")

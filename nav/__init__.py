@@ -1,0 +1,1 @@
+"""nav: filled in by later issues."""

@@ -1,0 +1,1 @@
+"""perception: filled in by later issues."""

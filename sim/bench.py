@@ -1,0 +1,51 @@
+"""Simulator benchmarks: real-time factor while driving, and camera render time."""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from mission.bench import Sample, benchmark
+from mission.config import LupinConfig
+from mission.drive_job import start_drive
+from sim.backend import SimRobot
+from sim.world import load_default_world
+
+RUNS = 7
+RUN_SIM_S = 20.0
+FRAMES = 30
+
+
+@benchmark("sim.realtime")
+def realtime(config: LupinConfig) -> Sample:
+    """Wall ms per simulated second with the robot driving the default tour: physics, the
+    10 Hz base control, mux, e-stop, LEDs and a 10 Hz lidar, all on the scheduler.
+    One sample per run (model build excluded); rtf = 1000 / ms."""
+    world = load_default_world()
+    times = []
+    for i in range(RUNS):
+        seeded = config.model_copy(update={"sim": config.sim.model_copy(update={"seed": config.sim.seed + i})})
+        run = start_drive(world, seeded, "tour")
+        t0 = time.perf_counter()
+        run.robot.scheduler.run_until(RUN_SIM_S)
+        times.append((time.perf_counter() - t0) * 1000.0 / RUN_SIM_S)
+        run.sim.close()
+    rtf = 1000.0 / np.asarray(times)
+    return Sample(times, {"rtf_median": round(float(np.median(rtf)), 1),
+                          "rtf_p5": round(float(np.percentile(rtf, 5)), 1),
+                          "sim_s_per_run": RUN_SIM_S, "physics_dt": config.sim.physics.timestep})
+
+
+@benchmark("sim.render")
+def render(config: LupinConfig) -> Sample:
+    """One 640x480 front-camera frame (EGL offscreen, CPU), after a warm-up frame."""
+    sim = SimRobot(load_default_world(), config)
+    cam = sim.hal.cameras["front"]
+    cam.capture()
+    times = []
+    for _ in range(FRAMES):
+        t0 = time.perf_counter()
+        cam.capture()
+        times.append((time.perf_counter() - t0) * 1000.0)
+    sim.close()
+    return Sample(times, {"width": cam.width, "height": cam.height})

@@ -1,0 +1,51 @@
+"""Simulated cameras: render offscreen (EGL) only when a frame is requested.
+
+One ``mujoco.Renderer`` per image size is shared by all cameras of that size and created on
+first use, so a run that never looks costs nothing. Frames come back in OpenCV's BGR order,
+like ``cv2.VideoCapture`` on the robot.
+"""
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from sim.engine import Engine
+
+
+class RendererPool:
+    def __init__(self, engine: Engine):
+        self.engine = engine
+        self._renderers: dict[tuple[int, int], mujoco.Renderer] = {}
+
+    def render(self, camera: str | int | mujoco.MjvCamera, width: int, height: int) -> np.ndarray:
+        """RGB uint8 HxWx3 of the current state."""
+        key = (width, height)
+        if key not in self._renderers:
+            m = self.engine.model
+            m.vis.global_.offwidth = max(m.vis.global_.offwidth, width)
+            m.vis.global_.offheight = max(m.vis.global_.offheight, height)
+            self._renderers[key] = mujoco.Renderer(m, height, width)
+        r = self._renderers[key]
+        # No mj_forward here: the kinematics of the last step are current to within one 5 ms
+        # step, and recomputing them must never perturb the physics of a deterministic run.
+        r.update_scene(self.engine.data, camera=camera)
+        return r.render()
+
+    def close(self) -> None:
+        for r in self._renderers.values():
+            r.close()
+        self._renderers.clear()
+
+
+class SimCamera:
+    """Implements the HAL's Camera for one named MuJoCo camera."""
+
+    def __init__(self, pool: RendererPool, name: str, width: int, height: int):
+        pool.engine.id(mujoco.mjtObj.mjOBJ_CAMERA, name)  # fail early on a missing camera
+        self.pool = pool
+        self.name = name
+        self.width = width
+        self.height = height
+
+    def capture(self) -> np.ndarray:
+        return np.ascontiguousarray(self.pool.render(self.name, self.width, self.height)[:, :, ::-1])

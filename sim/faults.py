@@ -1,0 +1,72 @@
+"""Run-time fault injection for the simulated robot (spec/events.md names the actions).
+
+Each method is one fault a later events file or scenario test can script: the sim must be
+able to misbehave the way the seed says the robot does.
+"""
+from __future__ import annotations
+
+import math
+
+import mujoco
+
+from sim.engine import Engine
+from sim.lidar import SimLidar
+from sim.sensors import SimBattery, SimEStopButton
+from sim.servos import SimServoBus
+
+SPARE_BOXES = 4
+PARKED_Z = -10.0
+
+
+class SimFaults:
+    def __init__(self, engine: Engine, lidar: SimLidar, servos: SimServoBus, battery: SimBattery,
+                 button: SimEStopButton, controllers=None):
+        self.engine = engine
+        self._lidar = lidar
+        self._servos = servos
+        self._battery = battery
+        self._button = button
+        self.controllers = controllers
+        self._boxes_used = 0
+
+    def estop(self, engaged: bool) -> None:
+        """Press or release the physical button."""
+        self._button.pressed = bool(engaged)
+
+    def lidar_dropout(self, duration: float) -> None:
+        """No scans for ``duration`` seconds (a USB hiccup)."""
+        self._lidar.dropout_until = self.engine.time + duration
+
+    def servo_stall(self, joint: str, mode: str = "unload") -> None:
+        """The seed's shoulder_lift trip: ``unload`` (goes limp) or ``latch`` (ignores commands)."""
+        if mode == "unload":
+            self._servos.unload(joint)
+        elif mode == "latch":
+            self._servos.latch(joint)
+        else:
+            raise ValueError(f"servo_stall mode must be 'unload' or 'latch', got {mode!r}")
+
+    def battery(self, voltage: float | None) -> None:
+        """Force the pack voltage (None gives control back to the battery model)."""
+        self._battery.forced_voltage = voltage
+
+    def place_box(self, x: float, y: float, sx: float, sy: float, yaw: float = 0.0, h: float = 0.5) -> None:
+        """Drop a box on the floor (world frame, full sizes), from the model's spare boxes."""
+        if self._boxes_used >= SPARE_BOXES:
+            raise ValueError(f"at most {SPARE_BOXES} boxes can be placed in one run")
+        m, d = self.engine.model, self.engine.data
+        body = self.engine.id(mujoco.mjtObj.mjOBJ_BODY, f"spare_box_{self._boxes_used}")
+        geom = self.engine.id(mujoco.mjtObj.mjOBJ_GEOM, f"spare_box_{self._boxes_used}_geom")
+        self._boxes_used += 1
+        m.geom_size[geom] = (sx / 2, sy / 2, h / 2)
+        m.geom_rbound[geom] = math.sqrt((sx / 2) ** 2 + (sy / 2) ** 2 + (h / 2) ** 2)
+        mocap = m.body_mocapid[body]
+        d.mocap_pos[mocap] = (x, y, h / 2)
+        d.mocap_quat[mocap] = (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
+
+    def controller_race(self, controllers: list[str], state: str) -> None:
+        """Bring controllers up broken (the seed's boot race): missing, unconfigured or inactive."""
+        if self.controllers is None:
+            raise RuntimeError("no controller manager attached to the sim")
+        for name in controllers:
+            self.controllers.force(name, state)

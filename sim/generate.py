@@ -1,0 +1,128 @@
+"""Generated greenhouse worlds for `lupin sim generate` (spec/world.md, spec/cli.md).
+
+The layout repeats the built-in greenhouse (sim/worlds/default.yaml), so
+``generate_world(3, 4, seed)`` has the default's floor, rows and aisles:
+
+- pots 1.0 m apart along x, the first at x = 2.0, each jittered by up to a few cm (seeded);
+- rows 1.0 m apart from y = 1.0, which leaves 0.8 m between pot edges: the spec's ~0.8 m
+  aisles; the south aisle (below the first row) is 0.9 m wide and so is the north strip;
+- the first row faces the south aisle; after it, rows pair up around the aisle between them
+  (row 1 faces north, row 2 south, row 3 north, ...), so a robot inspects two rows per aisle;
+- open cross aisles of 1.9 m (>= 1.5 m even with jitter) at both ends for turning;
+- spawn at the west end of the south aisle, looking east.
+
+Each pot gets a unique tag (1, 2, 3, ...: AprilTag 36h11 has ids 0..586, so at most 586
+pots), a seeded flower colour, 1..3 blooms and a climate reading; with 3 or more pots at least
+one pot has no bloom (``none``) and at least one has a pest (``bug``), as the spec asks ("some
+none, some bug"). Same arguments, same world: every draw comes from ``random.Random(seed)``.
+"""
+from __future__ import annotations
+
+import math
+import random
+
+from hw.errors import InputError
+from sim.world import TAG_IDS, Climate, Floor, Pose2, Pot, World, validate_world
+
+MAX_ROWS = 40
+"""Largest --rows (and --pots-per-row) accepted: a 40 x 40 m greenhouse is already far beyond
+anything a patrol covers in one battery charge."""
+
+POT_PITCH = 1.0
+"""Pot centre spacing along a row, m (default world)."""
+ROW_PITCH = 1.0
+"""Row centre spacing, m: 0.8 m aisle + two 0.10 m pot radii (spec: aisles about 0.8 m)."""
+FIRST_POT_X = 2.0
+"""x of a row's first pot, m: 1.9 m of west cross aisle beyond its edge."""
+FIRST_ROW_Y = 1.0
+"""y of the first row, m: a 0.9 m south aisle below its pot edges."""
+END_MARGIN = 2.0
+"""From the last pot's centre to the east wall, m: a 1.9 m east cross aisle."""
+NORTH_MARGIN = 1.0
+"""From the last row's centre to the north wall, m: a 0.9 m north aisle."""
+JITTER = 0.03
+"""Largest seeded x offset of a pot, m: pots never touch (1.0 m pitch) and the cross aisles
+stay >= 1.5 m wide."""
+SPAWN = (1.0, 0.5, 0.0)
+"""Robot start (x, y, yaw): the west end of the south aisle, looking east along it."""
+
+_SOUTH, _NORTH = -math.pi / 2, math.pi / 2
+
+
+def generate_world(rows: int, pots_per_row: int, seed: int, name: str | None = None) -> World:
+    """A valid world of ``rows`` x ``pots_per_row`` pots, the same for the same arguments.
+
+    Raises :class:`InputError` for sizes outside 1..40 or more pots than there are tag ids.
+    """
+    for option, value in (("rows", rows), ("pots per row", pots_per_row)):
+        if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= MAX_ROWS:
+            raise InputError(f"{option} must be a whole number from 1 to {MAX_ROWS} (got {value!r})")
+    count = rows * pots_per_row
+    max_pots = len(TAG_IDS) - 1  # tags start at 1
+    if count > max_pots:
+        raise InputError(
+            f"{rows} rows x {pots_per_row} pots = {count} pots, but every pot needs its own "
+            f"AprilTag 36h11 id and there are only {max_pots} (ids 1..{TAG_IDS[-1]}); generate fewer pots"
+        )
+    rng = random.Random(seed)
+    flowers, bugs = _flower_mix(count, rng)
+    width = max(2, len(str(count)))
+    pots: list[Pot] = []
+    climate: dict[int, Climate] = {}
+    for row in range(rows):
+        facing = _SOUTH if row % 2 == 0 else _NORTH
+        for col in range(pots_per_row):
+            k = len(pots)
+            tag = k + 1
+            pots.append(Pot(
+                id=f"P{tag:0{width}d}",
+                x=round(FIRST_POT_X + col * POT_PITCH + rng.uniform(-JITTER, JITTER), 3),
+                y=FIRST_ROW_Y + row * ROW_PITCH,
+                facing=facing,
+                tag=tag,
+                flower=flowers[k],
+                bug=bugs[k],
+                blooms=1 if flowers[k] == "none" else rng.randint(1, 3),
+            ))
+            climate[tag] = _climate(rng)
+    world = World(
+        name=name or f"generated-{rows}x{pots_per_row}-seed{seed}",
+        floor=Floor(
+            x=FIRST_POT_X + (pots_per_row - 1) * POT_PITCH + END_MARGIN,
+            y=FIRST_ROW_Y + (rows - 1) * ROW_PITCH + NORTH_MARGIN,
+        ),
+        spawn=Pose2(x=SPAWN[0], y=SPAWN[1], yaw=SPAWN[2]),
+        pots=pots,
+        climate=climate,
+    )
+    validate_world(world, source=f"generated world {world.name!r}")  # a failure here is a bug
+    return world
+
+
+def _flower_mix(count: int, rng: random.Random) -> tuple[list[str], list[bool]]:
+    """Colours and pests for ``count`` pots.
+
+    About one pot in ten (at least one from 3 pots up) has no bloom; the others cycle red,
+    white, pink before the shuffle, so every colour appears once 4 or more pots flower. About
+    one flowering pot in ten (at least one, from 3 pots up) has a pest.
+    """
+    nones = max(1, count // 10) if count >= 3 else 0
+    flowers = ["none"] * nones + [("red", "white", "pink")[k % 3] for k in range(count - nones)]
+    rng.shuffle(flowers)
+    bugs = [False] * count
+    if count >= 3:
+        flowering = [k for k in range(count) if flowers[k] != "none"]
+        for k in rng.sample(flowering, max(1, len(flowering) // 10)):
+            bugs[k] = True
+    return flowers, bugs
+
+
+def _climate(rng: random.Random) -> Climate:
+    """A plausible greenhouse reading (ranges around the spec's example)."""
+    return Climate(
+        temperature=round(rng.uniform(18.0, 28.0), 1),
+        humidity=round(rng.uniform(50.0, 80.0), 1),
+        co2=round(rng.uniform(400.0, 900.0)),
+        light=round(rng.uniform(5000.0, 20000.0), -2),
+        soil_moisture=round(rng.uniform(0.2, 0.5), 2),
+    )

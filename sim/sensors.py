@@ -1,0 +1,97 @@
+"""Small simulated devices: IMU, power monitor (battery), e-stop button, LED strip.
+
+The battery is a resistive 3S pack: open-circuit voltage falls linearly with charge used
+(full 12.6 V to empty 11.1 V, the seed's power_watcher min_voltage) and the terminal voltage
+sags by I*R under load, so driving visibly pulls the voltage down. A fault can force it.
+"""
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from hw.interfaces import ImuReading, PowerReading
+from sim.config import BatteryConfig
+from sim.engine import Engine
+
+
+class SimImu:
+    def __init__(self, engine: Engine, noise: tuple[float, float]):
+        self.engine = engine
+        m = engine.model
+        self._acc = m.sensor_adr[engine.id(mujoco.mjtObj.mjOBJ_SENSOR, "imu_accel")]
+        self._gyro = m.sensor_adr[engine.id(mujoco.mjtObj.mjOBJ_SENSOR, "imu_gyro")]
+        self._noise = noise
+        self._rng = np.random.default_rng([engine.config.seed, 3])
+
+    def read(self) -> ImuReading:
+        s = self.engine.data.sensordata
+        acc = s[self._acc:self._acc + 3] + self._rng.normal(0, self._noise[0], 3)
+        gyro = s[self._gyro:self._gyro + 3] + self._rng.normal(0, self._noise[1], 3)
+        return ImuReading(self.engine.time, tuple(float(a) for a in acc), tuple(float(g) for g in gyro))
+
+
+class SimBattery:
+    """Implements the HAL's PowerMonitor. ``load()`` returns the drivetrain's duty load (0..4)."""
+
+    def __init__(self, engine: Engine, config: BatteryConfig, load):
+        self.engine = engine
+        self.config = config
+        self._load = load
+        self._used_ah = 0.0
+        self._t = engine.time
+        self.forced_voltage: float | None = None
+
+    def _current(self) -> float:
+        return self.config.idle_current + self.config.stall_current * self._load()
+
+    def _integrate(self) -> float:
+        now = self.engine.time
+        current = self._current()
+        self._used_ah += current * max(0.0, now - self._t) / 3600.0
+        self._t = now
+        return current
+
+    def read(self) -> PowerReading:
+        current = self._integrate()
+        if self.forced_voltage is not None:
+            return PowerReading(self.engine.time, self.forced_voltage, current)
+        c = self.config
+        soc = max(0.0, 1.0 - self._used_ah / c.capacity_ah)
+        v = c.empty_voltage + (c.full_voltage - c.empty_voltage) * soc - c.internal_resistance * current
+        return PowerReading(self.engine.time, v, current)
+
+    def voltage_mv(self) -> int:
+        return int(round(self.read().voltage * 1000))
+
+
+class SimEStopButton:
+    """The physical mushroom button. ``pressed_level`` is how the sim robot is wired."""
+
+    def __init__(self, pressed_level: int):
+        self.pressed_level = pressed_level
+        self.pressed = False
+
+    def read_level(self) -> int:
+        return self.pressed_level if self.pressed else 1 - self.pressed_level
+
+
+class SimLedStrip:
+    """Decodes wire bytes with the strip's *physical* colour order and shows pixel 0 on the
+    chassis' ``led_strip`` geom, so a wrong colour-order config shows the wrong colour."""
+
+    def __init__(self, engine: Engine, num_leds: int, physical_order: str):
+        self.engine = engine
+        self.num_leds = num_leds
+        self.order = physical_order
+        self.wire = b""
+        self._geom = engine.id(mujoco.mjtObj.mjOBJ_GEOM, "led_strip")
+
+    def write(self, wire: bytes) -> None:
+        self.wire = bytes(wire)
+        if len(wire) >= 3:
+            rgb = self.pixel(0)
+            self.engine.model.geom_rgba[self._geom, :3] = np.array(rgb) / 255.0
+
+    def pixel(self, i: int) -> tuple[int, int, int]:
+        chunk = dict(zip(self.order, self.wire[3 * i:3 * i + 3]))
+        return chunk["R"], chunk["G"], chunk["B"]

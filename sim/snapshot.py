@@ -1,0 +1,48 @@
+"""Still pictures of the simulated greenhouse, so people can see the world they configured."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from arm.presets import preset
+from hw.errors import InputError
+from mission.config import LupinConfig
+from sim.backend import CAMERAS, SimRobot
+from sim.world import World
+
+
+def render_snapshot(world: World, config: LupinConfig, camera: str,
+                    pose: tuple[float, float, float] | None = None) -> np.ndarray:
+    """BGR image of ``camera`` ('front', 'wrist' or 'overview') with the robot at ``pose``.
+
+    The wrist camera is shown with the arm at ``inspect``, the pose it is used in on patrol.
+    """
+    sim = SimRobot(world, config)
+    try:
+        if pose is not None:
+            sim.place(*pose)
+        if camera == "wrist":
+            sim.servos.place(preset("inspect"))
+        sim.engine.forward()
+        if camera == "overview":
+            width = config.sim.camera.width
+            height = int(round(width * world.floor.y / world.floor.x)) if world.floor.x >= world.floor.y else width
+            rgb = sim.renderers.render("overview", width, max(240, min(height, 2 * width)))
+            return np.ascontiguousarray(rgb[:, :, ::-1])
+        return sim.hal.cameras[camera].capture()
+    finally:
+        sim.close()
+
+
+def write_png(path: Path, image: np.ndarray) -> None:
+    if path.suffix.lower() != ".png":
+        raise InputError(f"{path}: snapshot output must be a .png file")
+    if not path.parent.exists():
+        raise InputError(f"{path}: directory {path.parent} does not exist")
+    if not cv2.imwrite(str(path), image):
+        raise InputError(f"{path}: could not write the PNG")
+
+
+__all__ = ["render_snapshot", "write_png", "CAMERAS"]
