@@ -12,7 +12,8 @@ command on this robot is a 100 ms beat). Each tick, in this order:
    all-zero duties and reset the PID: the wheels stop on the same tick the press is seen, and an
    integrator charged before the stop cannot kick the robot on release;
 4. otherwise mecanum IK -> per-wheel PID -> ``duty = command / max_wheel_speed`` clipped to
-   [-1, 1], times ``motor_signs``, written to the wheel driver.
+   [-1, 1] and lifted past the motor dead-zone (``duty_dead_zone``) where the wheel is meant to
+   turn, times ``motor_signs``, written to the wheel driver.
 
 Wheel references that exceed ``max_wheel_speed`` are scaled down together (desaturation), so a
 fast diagonal command keeps its direction and slows down instead of curving as one wheel clips.
@@ -119,7 +120,7 @@ class BaseController:
             self.reference = self._desaturate(self.mecanum.inverse(twist))
             dt = self._last_dt if self._last_dt is not None else self.period
             out = self.pid.update(self.reference, self.wheel_speeds, dt)
-            duties = np.clip(out / self.config.max_wheel_speed, -1.0, 1.0) * self._motor_signs
+            duties = self._duty(out, self.reference) * self._motor_signs
 
         self._write(duties)
         return self.last_duties
@@ -153,6 +154,14 @@ class BaseController:
                 self._last_dt = dt
         self._prev_ticks, self._prev_t = ticks, now
         return True
+
+    def _duty(self, out: np.ndarray, reference: np.ndarray) -> np.ndarray:
+        """Wheel command (rad/s) -> duty in [-1, 1], mapped past the motor dead-zone wherever
+        the wheel is meant to turn (a zero reference keeps a plain, stop-friendly map)."""
+        raw = np.clip(out / self.config.max_wheel_speed, -1.0, 1.0)
+        dz = self.config.duty_dead_zone
+        lifted = np.sign(raw) * (dz + np.abs(raw) * (1.0 - dz))
+        return np.where((reference != 0.0) & (raw != 0.0), lifted, raw)
 
     def _desaturate(self, reference: np.ndarray) -> np.ndarray:
         peak = float(np.max(np.abs(reference)))

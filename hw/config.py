@@ -40,6 +40,10 @@ class BaseConfig(_Strict):
     """Encoder ticks per wheel revolution with 4x decoding (vendor: 11 ppr * 30 reduction * 4)."""
     max_wheel_speed: float = Field(6 * math.pi, gt=0)
     """Wheel speed at 100 % duty, rad/s (hardware reference: 100 % = 6*pi rad/s)."""
+    duty_dead_zone: float = Field(0.10, ge=0, lt=1)
+    """|duty| below which the motors do not turn (hardware reference: 10 % dead-zone). Duties
+    for a non-zero wheel reference are mapped past it, so slow moves (the last centimetres of a
+    tight approach) do not wait seconds for the integral to climb out of the dead band."""
     control_rate: float = Field(10.0, gt=0)
     """Controller-manager update rate, Hz (seed: update_rate 10, every command is a 100 ms beat)."""
     pid: PidGains = PidGains()

@@ -17,13 +17,13 @@ a press even if everything above hangs.
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from hw.base_controller import BaseController
 from hw.controller_manager import ControllerManager
 from hw.estop import EStopBridge
 from hw.interfaces import Hal
-from hw.leds import LedStatus
+from hw.leds import LedStatus, pick_state
 from hw.twist_mux import TwistMux
 from mission.config import LupinConfig
 from mission.scheduler import Scheduler
@@ -43,16 +43,10 @@ class Robot:
     estop: EStopBridge
     base: BaseController
     leds: LedStatus
-    extra: dict = field(default_factory=dict)
 
     def _led_tick(self, now: float) -> None:
-        if self.estop.engaged():
-            state = "estop"
-        elif any(abs(v) > 1e-3 for v in (self.base.command.vx, self.base.command.vy, self.base.command.wz)):
-            state = "driving"
-        else:
-            state = "standby"
-        self.leds.show(state)
+        c = self.base.command
+        self.leds.show(pick_state(estop=self.estop.engaged(), driving=max(abs(c.vx), abs(c.vy), abs(c.wz)) > 1e-3))
 
     def start(self) -> None:
         hw = self.config.hw

@@ -109,6 +109,10 @@ def snapshot(
     if camera not in ("front", "wrist", "overview"):
         raise InputError(f"--camera {camera!r}: expected front, wrist or overview")
     xyyaw = parse_pose(pose) if pose is not None else None
+    if output.suffix.lower() != ".png":
+        raise InputError(f"{output}: snapshot output must be a .png file")
+    if not output.parent.is_dir():
+        raise InputError(f"{output}: directory {output.parent} does not exist")
     from sim.snapshot import render_snapshot, write_png
 
     image = render_snapshot(_world(world), run_config(ctx), camera, xyyaw)

@@ -8,16 +8,12 @@ cameras, IMU) is read lazily when a consumer asks, so nothing is computed that n
 """
 from __future__ import annotations
 
-import os
+from typing import Protocol
 
-os.environ.setdefault("MUJOCO_GL", "egl")
+import mujoco
+import numpy as np
 
-from typing import Protocol  # noqa: E402
-
-import mujoco  # noqa: E402
-import numpy as np  # noqa: E402
-
-from sim.config import SimConfig  # noqa: E402
+from sim.config import SimConfig
 
 
 class ChunkDevice(Protocol):

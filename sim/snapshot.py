@@ -9,7 +9,7 @@ import numpy as np
 from arm.presets import preset
 from hw.errors import InputError
 from mission.config import LupinConfig
-from sim.backend import CAMERAS, SimRobot
+from sim.backend import SimRobot
 from sim.world import World
 
 
@@ -37,12 +37,6 @@ def render_snapshot(world: World, config: LupinConfig, camera: str,
 
 
 def write_png(path: Path, image: np.ndarray) -> None:
-    if path.suffix.lower() != ".png":
-        raise InputError(f"{path}: snapshot output must be a .png file")
-    if not path.parent.exists():
-        raise InputError(f"{path}: directory {path.parent} does not exist")
     if not cv2.imwrite(str(path), image):
         raise InputError(f"{path}: could not write the PNG")
 
-
-__all__ = ["render_snapshot", "write_png", "CAMERAS"]

@@ -86,13 +86,16 @@ class WheelPlant:
     """Four first-order wheels behind a FakeWheels driver and FakeEncoders.
 
     ``advance_to(t)`` integrates exactly (zero-order-hold duty, exponential response) and adds
-    the travelled angle to the encoders; ``stalled`` wheels are held at zero speed.
+    the travelled angle to the encoders; ``stalled`` wheels are held at zero speed. Duties
+    inside the 10 % dead-zone (hardware reference) do not turn the wheel, as in the sim motor.
     """
 
-    def __init__(self, ticks_per_rev: int = 1320, max_speed: float = 6 * math.pi, tau: float = 0.15):
+    def __init__(self, ticks_per_rev: int = 1320, max_speed: float = 6 * math.pi, tau: float = 0.15,
+                 dead_zone: float = 0.10):
         self.ticks_per_rev = ticks_per_rev
         self.max_speed = max_speed
         self.tau = tau
+        self.dead_zone = dead_zone
         self.t = 0.0
         self.speeds = np.zeros(4)
         self.stalled = np.zeros(4, dtype=bool)
@@ -104,7 +107,8 @@ class WheelPlant:
         dt = t - self.t
         if dt <= 0:
             return
-        target = self.wheels.duties * self.max_speed
+        d, dz = self.wheels.duties, self.dead_zone
+        target = np.where(np.abs(d) < dz, 0.0, np.sign(d) * (np.abs(d) - dz) / (1.0 - dz)) * self.max_speed
         a = math.exp(-dt / self.tau)
         w0 = np.where(self.stalled, 0.0, self.speeds)
         travelled = target * dt + (w0 - target) * self.tau * (1.0 - a)  # integral of w over dt

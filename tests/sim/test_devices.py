@@ -1,0 +1,153 @@
+"""The simulated devices behind the HAL: lidar, IMU, battery, cameras, servos, LEDs."""
+import math
+
+import numpy as np
+import pytest
+
+from hw.interfaces import DeviceError, Twist
+from hw.leds import PALETTE
+from tests.sim.conftest import assemble, open_floor
+
+FLOOR = (8.0, 6.0)
+
+
+@pytest.fixture
+def rig():
+    sim, robot = assemble(open_floor(spawn=(3.0, 3.0, 0.0), size=FLOOR))
+    yield sim, robot
+    sim.close()
+
+
+def test_lidar_measures_the_walls(rig):
+    sim, robot = rig
+    robot.scheduler.run_until(0.2)
+    scan = sim.hal.lidar.latest_scan()
+    assert scan.ranges.shape == (500,) and scan.ranges.dtype == np.float32
+    lx, ly = sim.engine.data.site_xpos[sim.lidar._site][:2]
+    east = scan.ranges[0]
+    north = scan.ranges[125]  # 90 deg, counter-clockwise (REP-103)
+    west = scan.ranges[250]
+    assert east == pytest.approx(FLOOR[0] - lx, abs=0.04)
+    assert north == pytest.approx(FLOOR[1] - ly, abs=0.04)
+    assert west == pytest.approx(lx, abs=0.04)
+    assert np.isfinite(scan.ranges).sum() > 450  # closed room: nearly every ray returns
+
+
+def test_lidar_revolutions_at_10hz_and_dropout(rig):
+    sim, robot = rig
+    robot.scheduler.run_until(0.15)
+    a = sim.hal.lidar.latest_scan()
+    assert sim.hal.lidar.latest_scan() is a  # same revolution, same object
+    robot.scheduler.run_until(0.25)
+    b = sim.hal.lidar.latest_scan()
+    assert b.stamp == pytest.approx(a.stamp + 0.1)
+    assert not np.array_equal(a.ranges, b.ranges)  # fresh noise per revolution
+    sim.faults.lidar_dropout(1.0)
+    robot.scheduler.run_until(1.0)
+    assert sim.hal.lidar.latest_scan() is None
+    robot.scheduler.run_until(1.3)
+    assert sim.hal.lidar.latest_scan() is not None
+
+
+def test_imu_at_rest_and_turning(rig):
+    sim, robot = rig
+    robot.scheduler.run_until(0.5)
+    rest = sim.hal.imu.read()
+    assert rest.accel[2] == pytest.approx(9.81, abs=0.15)
+    assert abs(rest.gyro[2]) < 0.02
+    for t in np.arange(0.5, 3.0, 0.1):
+        robot.mux.publish("manual", Twist(wz=0.6), t)
+        robot.scheduler.run_until(t + 0.1)
+    assert sim.hal.imu.read().gyro[2] == pytest.approx(0.6, abs=0.1)
+
+
+def test_battery_sags_under_load_and_can_be_forced(rig):
+    sim, robot = rig
+    robot.scheduler.run_until(0.5)
+    idle = sim.hal.power.read()
+    assert 11.1 < idle.voltage <= 12.6
+    for t in np.arange(0.5, 5.0, 0.1):
+        robot.mux.publish("manual", Twist(wz=1.5), t)
+        robot.scheduler.run_until(t + 0.1)
+    busy = sim.hal.power.read()
+    assert busy.current > idle.current + 0.5
+    assert busy.voltage < idle.voltage - 0.05
+    sim.faults.battery(11.0)
+    assert sim.hal.power.read().voltage == 11.0
+    sim.faults.battery(None)
+    assert sim.hal.power.read().voltage > 11.0
+
+
+def test_cameras_render_bgr_frames_on_request(rig):
+    sim, _ = rig
+    for name in ("front", "wrist"):
+        frame = sim.hal.cameras[name].capture()
+        assert frame.shape == (480, 640, 3) and frame.dtype == np.uint8
+        assert frame.std() > 3.0  # not a blank image
+    rgb = sim.renderers.render("front_camera", 640, 480)
+    assert np.array_equal(sim.hal.cameras["front"].capture(), rgb[:, :, ::-1])
+
+
+def _servo_rig(rig):
+    sim, robot = rig
+    bus = sim.hal.servos
+    calib = robot.config.hw.servos.joints["shoulder_pan"]
+    return sim, robot, bus, calib
+
+
+def test_servo_move_follows_the_hiwonder_ramp(rig):
+    sim, robot, bus, calib = _servo_rig(rig)
+    robot.scheduler.run_until(0.5)
+    start = bus.read_position(calib.id)
+    target = start + 120  # +28.8 deg
+    bus.move(calib.id, target, 1000)
+    robot.scheduler.run_until(1.0)
+    half = bus.read_position(calib.id)
+    assert start + 30 < half < start + 90  # moving, roughly halfway along the ramp
+    robot.scheduler.run_until(2.5)
+    assert abs(bus.read_position(calib.id) - target) <= 3
+    status = bus.read_status(calib.id)
+    assert status.loaded and 11000 < status.vin_mv < 12700
+
+
+def test_servo_offsets_and_unknown_ids(rig):
+    sim, robot, bus, calib = _servo_rig(rig)
+    robot.scheduler.run_until(0.3)
+    before = np.mean([bus.read_position(calib.id) for _ in range(20)])
+    bus.adjust_offset(calib.id, 10)
+    assert bus.read_offset(calib.id) == 10
+    after = np.mean([bus.read_position(calib.id) for _ in range(20)])
+    assert after == pytest.approx(before - 10, abs=1.0)
+    with pytest.raises(DeviceError):
+        bus.read_position(42)
+
+
+def test_gravity_sags_an_unloaded_shoulder_and_a_latched_servo_ignores_moves(rig):
+    sim, robot = rig
+    lift = robot.config.hw.servos.joints["shoulder_lift"].id
+    sim.servos.place({"shoulder_pan": 0.0, "shoulder_lift": -0.6, "elbow": 0.2, "wrist": 0.0})
+    robot.scheduler.run_until(1.0)
+    held = sim.servos.joint_position("shoulder_lift")
+    assert held == pytest.approx(-0.6, abs=0.1)  # holds against gravity, with a little sag
+    sim.faults.servo_stall("shoulder_lift")
+    assert not sim.hal.servos.read_status(lift).loaded
+    robot.scheduler.run_until(3.0)
+    assert abs(sim.servos.joint_position("shoulder_lift") - held) > 0.15  # went limp and fell
+    sim.hal.servos.set_load(lift, True)
+    sim.faults.servo_stall("elbow", mode="latch")
+    elbow = robot.config.hw.servos.joints["elbow"].id
+    before = sim.servos.joint_position("elbow")
+    sim.hal.servos.move(elbow, sim.hal.servos.read_position(elbow) + 150, 200)
+    robot.scheduler.run_until(4.0)
+    assert sim.servos.joint_position("elbow") == pytest.approx(before, abs=0.05)
+
+
+@pytest.mark.parametrize("order, matches", [("BRG", True), ("GRB", False)])
+def test_led_strip_shows_the_status_colour_only_with_the_right_order(order, matches):
+    sim, robot = assemble(open_floor(), LUPIN_HW__LEDS__COLOR_ORDER=order)
+    robot.scheduler.run_until(0.5)
+    shown = sim.leds.pixel(0)
+    assert (shown == PALETTE["standby"]) is matches
+    rgba = sim.engine.model.geom_rgba[sim.leds._geom]
+    assert np.allclose(rgba[:3] * 255, shown, atol=1)
+    sim.close()
