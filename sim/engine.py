@@ -74,7 +74,7 @@ class Engine:
     def warnings(self) -> dict[str, int]:
         """MuJoCo warnings raised so far (name -> count); empty for a healthy run."""
         out = {}
-        for w in mujoco.mjtWarning:
-            if w.value < len(self.data.warning) and self.data.warning[w.value].number:
-                out[w.name] = int(self.data.warning[w.value].number)
+        for name, w in mujoco.mjtWarning.__members__.items():
+            if name != "mjNWARNING" and self.data.warning[int(w)].number:
+                out[name] = int(self.data.warning[int(w)].number)
         return out

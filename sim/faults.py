@@ -10,12 +10,10 @@ import math
 import mujoco
 
 from sim.engine import Engine
+from sim.greenhouse import SPARE_BOXES
 from sim.lidar import SimLidar
 from sim.sensors import SimBattery, SimEStopButton
 from sim.servos import SimServoBus
-
-SPARE_BOXES = 4
-PARKED_Z = -10.0
 
 
 class SimFaults:
@@ -60,6 +58,7 @@ class SimFaults:
         self._boxes_used += 1
         m.geom_size[geom] = (sx / 2, sy / 2, h / 2)
         m.geom_rbound[geom] = math.sqrt((sx / 2) ** 2 + (sy / 2) ** 2 + (h / 2) ** 2)
+        m.geom_aabb[geom] = (0.0, 0.0, 0.0, sx / 2, sy / 2, h / 2)  # the broad phase reads this
         mocap = m.body_mocapid[body]
         d.mocap_pos[mocap] = (x, y, h / 2)
         d.mocap_quat[mocap] = (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))

@@ -151,3 +151,20 @@ def test_led_strip_shows_the_status_colour_only_with_the_right_order(order, matc
     rgba = sim.engine.model.geom_rgba[sim.leds._geom]
     assert np.allclose(rgba[:3] * 255, shown, atol=1)
     sim.close()
+
+
+def test_lidar_sees_the_robots_own_arm(rig):
+    """Like the original sim: the arm's returns are in the scan, closer than the 0.25 m that
+    consumers filter (seed), and they move when the arm moves."""
+    from arm.presets import preset
+
+    sim, robot = rig
+    sim.servos.place(preset("home"))
+    robot.scheduler.run_until(0.2)
+    home = sim.lidar.cast()
+    sim.servos.place(preset("tuck"))
+    sim.engine.forward()
+    tuck = sim.lidar.cast()
+    assert (home < 0.25).sum() > 5
+    front = np.abs(np.degrees(np.arctan2(np.sin(sim.lidar.angles), np.cos(sim.lidar.angles)))) < 30
+    assert (tuck[front] < 0.25).sum() > (home[front] < 0.25).sum()  # tucked arm crosses the front
