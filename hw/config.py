@@ -10,11 +10,14 @@ import math
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
 
-class _Strict(BaseModel):
+class Strict(BaseModel):
+    """Config sections: unknown keys are errors (a typo must not be silently ignored) and each
+    field's docstring is its description."""
+
     model_config = ConfigDict(extra="forbid", use_attribute_docstrings=True, validate_assignment=True)
 
 
-class PidGains(_Strict):
+class PidGains(Strict):
     p: float = 1.5
     """Proportional gain of pid_wheels_controller (seed: p 1.5)."""
     i: float = 0.5
@@ -31,7 +34,7 @@ class PidGains(_Strict):
     pid_controller feeds the reference forward, and so do we (untuned on the robot)."""
 
 
-class BaseConfig(_Strict):
+class BaseConfig(Strict):
     wheel_radius: float = Field(0.051, gt=0)
     """Mecanum wheel radius, m (seed: wheels_radius 0.051)."""
     lx_plus_ly: float = Field(0.225, gt=0)
@@ -54,7 +57,7 @@ class BaseConfig(_Strict):
     """Per-wheel duty sign in WHEELS order (the seed's drive inversion was fixed at the pin level)."""
 
 
-class MuxSource(_Strict):
+class MuxSource(Strict):
     priority: int
     """Higher wins while live."""
     timeout: float = Field(gt=0)
@@ -69,7 +72,7 @@ def _default_sources() -> dict[str, MuxSource]:
     }
 
 
-class MuxConfig(_Strict):
+class MuxConfig(Strict):
     sources: dict[str, MuxSource] = Field(default_factory=_default_sources)
     """Seed twist_mux table: dead-man joy 100/0.3 s, operator manual 50/0.5 s, autonomy
     auto 10/0.5 s. The idle zero guard (priority 1) is built in and always live."""
@@ -77,7 +80,7 @@ class MuxConfig(_Strict):
     """Seed: the bus's idle zero publisher sits at priority 1, below every real source."""
 
 
-class EStopConfig(_Strict):
+class EStopConfig(Strict):
     engaged_level: int = Field(1, ge=0, le=1)
     """Pin level that means 'pressed'. UNVERIFIED on the robot (seed): logged loudly at start-up;
     press the button and check the state goes true, else flip this."""
@@ -85,7 +88,7 @@ class EStopConfig(_Strict):
     """E-stop state publish rate, Hz (seed: estop_bridge publishes /e_stop_state at 5 Hz)."""
 
 
-class LedConfig(_Strict):
+class LedConfig(Strict):
     color_order: str = "BRG"
     """Wire order of the strip's three bytes. Mirte-247264's strip is BRG (seed)."""
     num_leds: int = Field(8, gt=0)
@@ -99,7 +102,7 @@ class LedConfig(_Strict):
         return v.upper()
 
 
-class ServoCalib(_Strict):
+class ServoCalib(Strict):
     id: int = Field(ge=0, le=253)
     """Hiwonder bus id (seed: ids 2-6)."""
     home: int
@@ -120,14 +123,14 @@ def _default_servos() -> dict[str, ServoCalib]:
     }
 
 
-class ServoBusConfig(_Strict):
+class ServoBusConfig(Strict):
     joints: dict[str, ServoCalib] = Field(default_factory=_default_servos)
     """Joint -> servo id and vendor raw range (hardware reference, MIRTE vendor config)."""
     centideg_per_count: float = 24.0
     """Hiwonder position: 0..1000 counts over 240 deg, i.e. 24 centidegrees per count."""
 
 
-class HwConfig(_Strict):
+class HwConfig(Strict):
     """Hardware services: the same in sim and on the robot."""
 
     base: BaseConfig = BaseConfig()

@@ -69,7 +69,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{where}: {exc.format_message()}", file=sys.stderr)
         return 2
     except (InputError, DeviceError) as exc:
-        print(f"lupin: {exc}", file=sys.stderr)
+        # A file with several problems lists them all, still on one line (spec/cli.md).
+        print("lupin: " + "; ".join(str(exc).splitlines()), file=sys.stderr)
         return 2
     except cx.ClickException as exc:
         print(f"lupin: {exc.format_message()}", file=sys.stderr)

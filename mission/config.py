@@ -17,6 +17,7 @@ from pydantic import BaseModel, ConfigDict, ValidationError
 
 from hw.config import HwConfig
 from hw.errors import InputError
+from mission.input_file import read_yaml
 from sim.config import SimConfig
 
 ENV_PREFIX = "LUPIN_"
@@ -78,16 +79,10 @@ def load_config(path: str | Path | None = None, env: Mapping[str, str] | None = 
     data: dict = {}
     sources = ["defaults"]
     if path is not None:
-        path = Path(path)
-        try:
-            loaded = yaml.safe_load(path.read_text())
-        except OSError as exc:
-            raise InputError(f"cannot read config file {path}: {exc.strerror}") from None
-        except yaml.YAMLError as exc:
-            raise InputError(f"config file {path} is not valid YAML: {exc}") from None
-        if loaded is not None and not isinstance(loaded, Mapping):
-            raise InputError(f"config file {path}: top level must be a mapping of sections")
-        data = _merge(data, loaded or {})
+        loaded = read_yaml(path, "config file")
+        if not isinstance(loaded, Mapping):
+            raise InputError(f"{path}: top level: must be a mapping of sections ({', '.join(LupinConfig.model_fields)})")
+        data = _merge(data, loaded)
         sources.append(str(path))
     overrides = _env_overrides(env)
     if overrides:

@@ -5,11 +5,9 @@ README (sim/models/mirte_master/README.md) says where each dimension came from.
 """
 from __future__ import annotations
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import Field
 
-
-class _Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid", use_attribute_docstrings=True, validate_assignment=True)
+from hw.config import Strict as _Strict
 
 
 class PhysicsConfig(_Strict):

@@ -73,9 +73,12 @@ def test_bad_config_file_is_exit_2(capsys, tmp_path):
 
 def test_bad_world_file_is_exit_2_naming_the_entry(capsys, tmp_path):
     w = tmp_path / "w.yaml"
-    w.write_text("name: x\nfloor: {x: 4, y: 4}\nspawn: {x: 1, y: 1}\npots:\n  - {id: A, x: 2, y: 2, facing: 0, flower: blue}\n")
+    w.write_text("name: x\nfloor: {x: 4, y: 4}\nspawn: {x: 1, y: 1}\npots:\n"
+                 "  - {id: A, x: 2, y: 2, facing: 0, flower: blue}\n  - {id: B, x: 3, y: 2, facing: 0, blooms: 7}\n")
     code, _, err = run(capsys, "sim", "drive", "--world", str(w))
-    assert code == 2 and "pots[0]" in err and "flower" in err
+    assert code == 2 and "pots[0] (id A)" in err and "flower" in err
+    assert "pots[1] (id B)" in err and "blooms" in err  # every problem, still one line
+    assert len(err.strip().splitlines()) == 1
 
 
 def test_bench_json_plumbing(capsys, monkeypatch):

@@ -53,11 +53,11 @@ def test_invalid_config_is_one_clear_message(tmp_path, content, env, needle):
 
 
 def test_unreadable_and_malformed_files(tmp_path):
-    with pytest.raises(InputError, match="cannot read config file"):
+    with pytest.raises(InputError, match="config file not found"):
         load_config(tmp_path / "missing.yaml", env={})
     bad = tmp_path / "bad.yaml"
     bad.write_text("hw: [unclosed\n")
-    with pytest.raises(InputError, match="not valid YAML"):
+    with pytest.raises(InputError, match="not valid YAML: line 2"):
         load_config(bad, env={})
     lst = tmp_path / "list.yaml"
     lst.write_text("- 1\n- 2\n")

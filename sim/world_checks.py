@@ -1,0 +1,168 @@
+"""Cross-entry checks of a greenhouse world: geometry, unique ids and tags, climate keys.
+
+Pydantic checks each entry on its own (sim/world.py); what involves several entries is here.
+Pots are circles of ``GreenhouseGeometry.pot_radius`` (spec/world.md: ~0.10 m) and the robot a
+circle of ``ROBOT_RADIUS``. The spec rejects impossible geometry: a pot in or through a wall,
+overlapping pots, a pot in a box, a box outside the floor, a spawn that is outside the floor or
+touches a pot or a box; ids must be unique, and so must tags (a tag identifies its pot).
+"""
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+from sim.config import GreenhouseGeometry
+
+if TYPE_CHECKING:
+    from sim.world import Obstacle, World
+
+ROBOT_RADIUS = 0.22
+"""Radius of the circle that encloses the robot's footprint, m. The spawn circle must not touch
+a wall, a pot or an obstacle, or the robot would start inside something (spec: "a spawn inside
+an obstacle" is impossible geometry)."""
+
+_EPS = 1e-9  # geometry tolerance: exactly touching pots or boxes are allowed
+
+def world_problems(
+    world: World,
+    geometry: GreenhouseGeometry | None = None,
+    robot_radius: float = ROBOT_RADIUS,
+) -> list[str]:
+    """Every problem that involves more than one entry, one line each (without the file name).
+
+    Pots are circles of ``geometry.pot_radius`` (spec/world.md: ~0.10 m; sim/config.py
+    :class:`GreenhouseGeometry` is where the sim fixes it); the robot is a circle of
+    ``robot_radius``. The spec calls for rejecting impossible geometry: a pot in or through a
+    wall, overlapping pots, a pot in a box, a box outside the floor, a spawn that is outside the
+    floor or touches a pot or a box. It also asks for unique ids; tags must be unique too (a tag
+    identifies its pot) and climate may only be keyed by a tag that some pot carries.
+    """
+    r = (geometry or GreenhouseGeometry()).pot_radius
+    fx, fy = world.floor.x, world.floor.y
+    out: list[str] = []
+
+    first_id: dict[str, int] = {}
+    first_tag: dict[int, int] = {}
+    for i, pot in enumerate(world.pots):
+        where = _pot(i, world)
+        if pot.id in first_id:
+            out.append(f"{where}: field 'id': duplicate of pots[{first_id[pot.id]}]")
+        first_id.setdefault(pot.id, i)
+        if pot.tag is not None:
+            if pot.tag in first_tag:
+                out.append(
+                    f"{where}: field 'tag': tag {pot.tag} is already on {_pot(first_tag[pot.tag], world)}"
+                )
+            first_tag.setdefault(pot.tag, i)
+        out += [f"{where}: {p}" for p in _circle_in_floor(pot.x, pot.y, r, fx, fy, "pot")]
+
+    out += _overlapping_pots(world, r)
+
+    for j, box in enumerate(world.obstacles):
+        corners = _box_corners(box)
+        bad = [c for c in corners if not (-_EPS <= c[0] <= fx + _EPS and -_EPS <= c[1] <= fy + _EPS)]
+        if bad:
+            cx, cy = bad[0]
+            out.append(
+                f"obstacles[{j}]: fields 'x', 'y', 'sx', 'sy', 'yaw': the box reaches outside the "
+                f"floor: corner ({cx:.2f}, {cy:.2f}) is not in [0, {fx:.2f}] x [0, {fy:.2f}]"
+            )
+        for i, pot in enumerate(world.pots):
+            d = _distance_to_box(pot.x, pot.y, box)
+            if d < r - _EPS:
+                out.append(
+                    f"{_pot(i, world)} overlaps obstacles[{j}]: {_gap(d, r, 'pot')} (fields 'x', 'y')"
+                )
+
+    s = world.spawn
+    out += [f"spawn: {p}" for p in _circle_in_floor(s.x, s.y, robot_radius, fx, fy, "robot")]
+    for i, pot in enumerate(world.pots):
+        d, need = math.hypot(pot.x - s.x, pot.y - s.y), robot_radius + r
+        if d < need - _EPS:
+            got, want = _pair(d, need)
+            out.append(
+                f"spawn overlaps {_pot(i, world)}: centres {got} m apart, need >= {want} m "
+                f"(robot radius {robot_radius:.2f} m + pot radius {r:.2f} m) (fields 'x', 'y')"
+            )
+    for j, box in enumerate(world.obstacles):
+        d = _distance_to_box(s.x, s.y, box)
+        if d < robot_radius - _EPS:
+            out.append(f"spawn overlaps obstacles[{j}]: {_gap(d, robot_radius, 'robot')} (fields 'x', 'y')")
+
+    for tag in world.climate:
+        if tag not in first_tag:
+            out.append(f"climate[{tag}]: key {tag}: no pot carries tag {tag}")
+    return out
+
+
+def _overlapping_pots(world: World, r: float) -> list[str]:
+    """Pairs of pots closer than two radii; a sweep along x keeps big generated worlds fast."""
+    order = sorted(range(len(world.pots)), key=lambda i: world.pots[i].x)
+    found: list[tuple[int, int, float]] = []
+    for a, i in enumerate(order):
+        pi = world.pots[i]
+        for j in order[a + 1:]:
+            pj = world.pots[j]
+            if pj.x - pi.x >= 2 * r:
+                break
+            d = math.hypot(pj.x - pi.x, pj.y - pi.y)
+            if d < 2 * r - _EPS:
+                found.append((max(i, j), min(i, j), d))
+    out = []
+    for later, earlier, d in sorted(found):
+        got, want = _pair(d, 2 * r)
+        out.append(
+            f"{_pot(later, world)} overlaps {_pot(earlier, world)}: centres {got} m apart, "
+            f"need >= {want} m (fields 'x', 'y')"
+        )
+    return out
+
+
+def _circle_in_floor(x: float, y: float, r: float, fx: float, fy: float, what: str) -> list[str]:
+    """Why a circle is not fully inside [0, fx] x [0, fy] (empty list: it is)."""
+    out = []
+    for field, v, size, low_wall, high_wall in (("x", x, fx, "west", "east"), ("y", y, fy, "south", "north")):
+        if size < 2 * r:
+            out.append(f"field '{field}': the floor is {size:.2f} m across, too small for a {what} "
+                       f"of radius {r:.2f} m")
+        elif v < r - _EPS or v > size - r + _EPS:
+            wall = low_wall if v < r else high_wall
+            out.append(
+                f"field '{field}': the {what} (radius {r:.2f} m) crosses the {wall} wall: "
+                f"need {r:.2f} <= {field} <= {size - r:.2f} m (got {v:g})"
+            )
+    return out
+
+
+def _box_corners(box: Obstacle) -> list[tuple[float, float]]:
+    c, s = math.cos(box.yaw), math.sin(box.yaw)
+    hx, hy = box.sx / 2, box.sy / 2
+    return [(box.x + c * u - s * v, box.y + s * u + c * v) for u in (-hx, hx) for v in (-hy, hy)]
+
+
+def _distance_to_box(x: float, y: float, box: Obstacle) -> float:
+    """Distance from a point to a yawed box's footprint (0 inside it)."""
+    c, s = math.cos(box.yaw), math.sin(box.yaw)
+    dx, dy = x - box.x, y - box.y
+    u, v = c * dx + s * dy, -s * dx + c * dy  # the point in the box frame
+    return math.hypot(max(abs(u) - box.sx / 2, 0.0), max(abs(v) - box.sy / 2, 0.0))
+
+
+def _gap(d: float, need: float, what: str) -> str:
+    if d <= 0:
+        return f"the {what} centre is inside the box"
+    got, want = _pair(d, need)
+    return f"the {what} centre is {got} m from the box, need >= {want} m (its radius)"
+
+
+def _pair(got: float, need: float) -> tuple[str, str]:
+    """Format two distances with enough decimals that they visibly differ."""
+    for digits in (2, 3, 4, 6):
+        a, b = f"{got:.{digits}f}", f"{need:.{digits}f}"
+        if a != b:
+            return a, b
+    return f"{got!r}", f"{need!r}"
+
+
+def _pot(i: int, world: World) -> str:
+    return f"pots[{i}] (id {world.pots[i].id})"
