@@ -6,7 +6,7 @@ will, and reports wheel odometry against the sim's ground truth per move.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from hw.interfaces import Twist
 from mission.config import LupinConfig
@@ -25,6 +25,8 @@ class DriveRun:
     robot: Robot
     driver: RouteDriver
     scans: int = 0
+    bumps: dict[str, float] = field(default_factory=dict)
+    """World geoms the chassis touched, with the first time each was touched (s)."""
 
     @property
     def sim_time(self) -> float:
@@ -50,6 +52,8 @@ def start_drive(world: World, config: LupinConfig, route: str) -> DriveRun:
     def lidar_tick(now: float) -> None:
         if sim.hal.lidar.latest_scan() is not None:
             run.scans += 1
+        for name in sim.touching():
+            run.bumps.setdefault(name, now)
 
     robot.start()
     robot.scheduler.every("route", config.hw.base.control_rate, driver.tick)

@@ -28,6 +28,8 @@ def format_results(run: DriveRun) -> str:
                  f"truth from spawn ({moved[0]:.3f}, {moved[1]:.3f}, {math.degrees(moved[2]):.1f} deg), "
                  f"drift {drift:.3f} m over {run.robot.base.odometry.distance:.2f} m driven, "
                  f"{run.sim_time:.1f} s sim time, {run.scans} lidar scans")
+    for name, t in run.bumps.items():
+        lines.append(f"bumped into {name} at {t:.1f} s: wheel odometry cannot tell (does the route fit this world?)")
     return "\n".join(lines)
 
 
@@ -39,6 +41,7 @@ def results_json(run: DriveRun) -> dict:
             for r in run.results
         ],
         "completed": run.driver.done,
+        "bumps": [{"geom": name, "t": t} for name, t in run.bumps.items()],
         "sim_time_s": run.sim_time,
         "distance_m": run.robot.base.odometry.distance,
     }

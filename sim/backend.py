@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import mujoco
 import numpy as np
 
 from hw.interfaces import Hal
@@ -43,6 +44,7 @@ class SimRobot:
         self._base_qpos = np.array([engine.joint_qpos(j) for j in BASE_JOINTS])
         engine.data.qpos[self._base_qpos] = (world.spawn.x, world.spawn.y, world.spawn.yaw)
         engine.forward()
+        self._chassis = engine.id(mujoco.mjtObj.mjOBJ_GEOM, "chassis")
 
         self.drive = SimDrive(engine, sc.drive, config.hw.base)
         self.battery = SimBattery(engine, sc.battery, self.drive.load)
@@ -71,6 +73,12 @@ class SimRobot:
         """Ground-truth base pose in the world frame (what odometry is judged against)."""
         x, y, yaw = self.engine.data.qpos[self._base_qpos]
         return TruthPose(float(x), float(y), float(yaw))
+
+    def touching(self) -> list[str]:
+        """Names of the world geoms the chassis is in contact with right now (bumps)."""
+        pairs = self.engine.data.contact.geom
+        hits = np.concatenate([pairs[pairs[:, 0] == self._chassis, 1], pairs[pairs[:, 1] == self._chassis, 0]])
+        return sorted({mujoco.mj_id2name(self.engine.model, mujoco.mjtObj.mjOBJ_GEOM, int(g)) or f"geom {g}" for g in hits})
 
     def place(self, x: float, y: float, yaw: float) -> None:
         """Teleport the base (scene set-up for snapshots and tests, never the control stack)."""

@@ -1,0 +1,43 @@
+"""`lupin sim drive`, the main job until the patrol lands: the default tour end to end."""
+import json
+import math
+
+import yaml
+
+from mission.cli import main
+from mission.config import load_config
+from mission.drive_job import drive
+from sim.world import dump_world, load_default_world
+
+
+def test_tour_of_the_default_greenhouse_is_clean():
+    run = drive(load_default_world(), load_config(env={}), "tour")
+    assert run.driver.done
+    assert [r.move.name for r in run.results] == [m.name for m in run.driver.moves]
+    assert run.bumps == {}  # the route fits the built-in greenhouse
+    assert run.sim.engine.warnings() == {}
+    assert 9 * 20 < run.scans  # ~10 Hz lidar over the whole run
+    for r in run.results:
+        axis = ("x", "y", "yaw").index(r.move.axis)
+        if r.move.axis == "yaw":
+            assert abs(math.degrees(r.error[2])) <= 2.0
+        else:
+            assert abs(r.error[axis]) <= 0.02 * abs(r.truth[axis])
+
+
+def test_a_route_that_does_not_fit_reports_the_bump(tmp_path, capsys):
+    world = load_default_world()
+    crowded = world.model_copy(update={"obstacles": [*world.obstacles, world.obstacles[0].model_copy(
+        update={"x": 1.6, "y": 0.5, "sx": 0.3, "sy": 0.3})]})
+    path = tmp_path / "crowded.yaml"
+    path.write_text(dump_world(crowded))
+    out = tmp_path / "run"
+    code = main(["sim", "drive", "--world", str(path), "--route", "straight", "--out", str(out)])
+    printed = capsys.readouterr().out
+    assert code == 0
+    assert "bumped into obstacle_" in printed
+    report = json.loads((out / "drive.json").read_text())
+    assert report["bumps"] and report["completed"]
+    (move,) = report["moves"]
+    assert move["odom"][0] > move["truth"][0] + 0.2  # wheels spun on against the crate
+    assert yaml.safe_load((out / "config.yaml").read_text())["sim"]["seed"] == 0
