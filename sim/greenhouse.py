@@ -34,18 +34,15 @@ Public API: :func:`build_greenhouse`, :func:`greenhouse_xml`, :data:`ROBOT_XML`,
 from __future__ import annotations
 
 import math
-import os
 import tempfile
 from pathlib import Path
 from xml.sax.saxutils import quoteattr
 
-os.environ.setdefault("MUJOCO_GL", "egl")
+import mujoco
 
-import mujoco  # noqa: E402
-
-from sim.apriltag import PAPER_RGB, write_tag_png  # noqa: E402
-from sim.config import GreenhouseGeometry  # noqa: E402
-from sim.world import Obstacle, Pot, World  # noqa: E402
+from sim.apriltag import PAPER_RGB, write_tag_png
+from sim.config import GreenhouseGeometry
+from sim.world import Obstacle, Pot, World
 
 ROBOT_XML: Path = Path(__file__).resolve().parent / "models" / "mirte_master" / "mirte_master.xml"
 """The robot model, included (never copied) by every greenhouse."""
@@ -58,7 +55,8 @@ PARKED_Z = -10.0
 
 SPARE_BOX_HALF = 2.0
 """Half-size of a parked spare box as compiled, m (see :func:`_spare_box`): placed boxes up to
-4 m across collide correctly even if only ``geom_size``/``geom_rbound`` are updated."""
+4 m across collide even with the compiled bounding box; ``SimFaults.place_box`` also sets the
+exact ``geom_aabb``, which the broad phase reads."""
 
 WALL_THICKNESS = 0.10
 """Wall thickness, m; walls stand outside [0, x] x [0, y], so the interior is the world's."""
