@@ -17,8 +17,14 @@ exactly ``timeout`` later is live even though ``1.3 - 1.0 > 0.3`` in floats. The
 real source is silent the bus outputs a zero twist rather than the last stale command. Ties in
 priority go to the source listed first in the config (deterministic, never random); a source at
 or below the guard's priority can never win.
+
+A twist with a NaN or infinite component (a planner bug, a garbled console message) is dropped
+and logged, not passed on: it cannot refresh its source, so that source simply times out.
 """
 from __future__ import annotations
+
+import logging
+import math
 
 from hw.config import MuxConfig
 from hw.interfaces import ZERO_TWIST, Twist
@@ -27,6 +33,7 @@ from hw.interfaces import ZERO_TWIST, Twist
 IDLE = "idle"
 
 _NS = 1_000_000_000
+log = logging.getLogger(__name__)
 
 
 def _ns(t: float) -> int:
@@ -52,6 +59,9 @@ class TwistMux:
         if source not in self.config.sources:
             known = ", ".join(self.config.sources)
             raise ValueError(f"unknown twist_mux source {source!r} (known: {known})")
+        if not all(math.isfinite(v) for v in (twist.vx, twist.vy, twist.wz)):
+            log.error("twist_mux: dropped a non-finite twist from %r: %s", source, twist)
+            return
         self._last[source] = (_ns(now), twist)
 
     def is_live(self, source: str, now: float) -> bool:

@@ -108,3 +108,12 @@ def test_equal_priorities_resolve_by_config_order():
     mux.publish("a", AUTO, 0.0)
     mux.publish("b", JOY, 0.0)
     assert mux.active_source(0.1) == "b"
+
+
+def test_non_finite_twists_are_dropped_and_the_source_times_out():
+    mux = TwistMux(MuxConfig())
+    mux.publish("manual", Twist(vx=0.2), 0.0)
+    mux.publish("manual", Twist(vx=float("nan")), 0.3)
+    mux.publish("joy", Twist(wz=float("inf")), 0.3)
+    assert mux.select(0.4) == (Twist(vx=0.2), "manual")  # the last good command, still live
+    assert mux.select(0.6) == (ZERO_TWIST, "idle")  # bad messages never refreshed it
