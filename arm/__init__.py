@@ -1,1 +1,3 @@
-"""arm: filled in by later issues."""
+"""The arm: named presets today; limits, gripper sign, dead-band re-assert and the trajectory
+controller arrive with the arm issue.
+"""

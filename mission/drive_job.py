@@ -10,8 +10,9 @@ from dataclasses import dataclass, field
 
 from hw.interfaces import Twist
 from mission.config import LupinConfig
-from mission.robot import Robot, build_robot
+from mission.robot import Robot
 from mission.route import ROUTES, MoveResult, RouteDriver
+from mission.sim_runtime import start_sim_runtime
 from sim.backend import SimRobot
 from sim.world import World
 
@@ -39,9 +40,8 @@ class DriveRun:
 
 def start_drive(world: World, config: LupinConfig, route: str) -> DriveRun:
     """Assemble sim + services + route driver on one scheduler, not yet run."""
-    sim = SimRobot(world, config)
-    robot = build_robot(config, sim.hal)
-    sim.faults.controllers = robot.controllers
+    rt = start_sim_runtime(world, config)
+    sim, robot = rt.sim, rt.robot
 
     def publish(twist: Twist, now: float) -> None:
         robot.mux.publish("auto", twist, now)
@@ -55,7 +55,6 @@ def start_drive(world: World, config: LupinConfig, route: str) -> DriveRun:
         for name in sim.touching():
             run.bumps.setdefault(name, now)
 
-    robot.start()
     robot.scheduler.every("route", config.hw.base.control_rate, driver.tick)
     robot.scheduler.every("lidar", LIDAR_RATE, lidar_tick)
     return run

@@ -169,3 +169,22 @@ def make_base_rig(
         scheduler.every("base", config.base.control_rate, base.tick)
         scheduler.every("estop", config.estop.publish_rate, estop.publish)
     return BaseRig(config, clock, scheduler, plant, button, mux, estop, manager, base, log)
+
+
+# --- the simulated robot -----------------------------------------------------------------------
+
+def open_floor(spawn=(3.0, 3.0, 0.0), size=(8.0, 6.0)):
+    """An empty greenhouse: nothing to bump into, so truth is what the wheels achieved."""
+    from sim.world import Floor, Pose2, World
+
+    return World(name="open", floor=Floor(x=size[0], y=size[1]),
+                 spawn=Pose2(x=spawn[0], y=spawn[1], yaw=spawn[2]), pots=[])
+
+
+def assemble(world, seed: int = 0, **env):
+    """A sim runtime (MuJoCo robot + hardware services, scheduled) -> (SimRobot, Robot)."""
+    from mission.config import load_config
+    from mission.sim_runtime import start_sim_runtime
+
+    rt = start_sim_runtime(world, load_config(env={"LUPIN_SIM__SEED": str(seed), **env}))
+    return rt.sim, rt.robot

@@ -6,7 +6,7 @@ import pytest
 
 from hw.interfaces import DeviceError, Twist
 from hw.leds import PALETTE
-from tests.sim.conftest import assemble, open_floor
+from tests.fixtures import assemble, open_floor
 
 FLOOR = (8.0, 6.0)
 

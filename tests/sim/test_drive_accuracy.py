@@ -9,7 +9,7 @@ import pytest
 
 from mission.drive_job import drive
 from mission.config import load_config
-from tests.sim.conftest import open_floor
+from tests.fixtures import open_floor
 
 
 @pytest.mark.parametrize("route, axis, amount, tol", [

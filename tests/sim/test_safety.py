@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from hw.interfaces import Twist
-from tests.sim.conftest import assemble, open_floor
+from tests.fixtures import assemble, open_floor
 
 
 def _drive(robot, until, twist=Twist(vx=0.3), source="manual", step=0.1):
