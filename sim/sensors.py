@@ -6,6 +6,8 @@ sags by I*R under load, so driving visibly pulls the voltage down. A fault can f
 """
 from __future__ import annotations
 
+from typing import Callable
+
 import mujoco
 import numpy as np
 
@@ -33,7 +35,7 @@ class SimImu:
 class SimBattery:
     """Implements the HAL's PowerMonitor. ``load()`` returns the drivetrain's duty load (0..4)."""
 
-    def __init__(self, engine: Engine, config: BatteryConfig, load):
+    def __init__(self, engine: Engine, config: BatteryConfig, load: Callable[[], float]):
         self.engine = engine
         self.config = config
         self._load = load

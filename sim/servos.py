@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 
@@ -45,7 +46,7 @@ class _Servo:
 class SimServoBus:
     """Implements the HAL's ServoBus on the arm and gripper position actuators."""
 
-    def __init__(self, engine: Engine, config: ServoBusConfig, noise_counts: int, vin_mv: callable):
+    def __init__(self, engine: Engine, config: ServoBusConfig, noise_counts: int, vin_mv: Callable[[], int]):
         self.engine = engine
         self.config = config
         self.noise = noise_counts

@@ -1,5 +1,4 @@
 """The simulated devices behind the HAL: lidar, IMU, battery, cameras, servos, LEDs."""
-import math
 
 import numpy as np
 import pytest

@@ -13,7 +13,7 @@ import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from sim.apriltag import MODULES, tag_image, write_tag_png  # noqa: E402
+from sim.apriltag import tag_image, write_tag_png  # noqa: E402
 from sim.config import GreenhouseGeometry  # noqa: E402
 from sim.greenhouse import PARKED_Z, SPARE_BOXES, build_greenhouse, greenhouse_xml  # noqa: E402
 from sim.world import Floor, Obstacle, Pose2, Pot, World  # noqa: E402

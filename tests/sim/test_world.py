@@ -8,6 +8,7 @@ from pathlib import Path
 
 import pytest
 import yaml
+from pydantic import ValidationError
 
 from hw.errors import InputError
 from sim.config import GreenhouseGeometry
@@ -261,5 +262,5 @@ def test_errors_carry_no_chained_traceback(tmp_path):
 
 
 def test_world_model_forbids_unknown_fields_in_code_too():
-    with pytest.raises(Exception):
+    with pytest.raises(ValidationError):
         World.model_validate({**GOOD, "extra": 1})
