@@ -94,6 +94,11 @@ def load_config(path: str | Path | None = None, env: Mapping[str, str] | None = 
         raise InputError(_format(exc, " + ".join(sources))) from None
 
 
+def with_seed(config: LupinConfig, seed: int) -> LupinConfig:
+    """The same config with another sim seed (``--seed``, benchmark runs)."""
+    return config.model_copy(update={"sim": config.sim.model_copy(update={"seed": seed})})
+
+
 def save_config(config: LupinConfig, directory: str | Path) -> Path:
     """Write the config actually used next to a run's output, so any run can be reproduced."""
     directory = Path(directory)

@@ -10,10 +10,8 @@ from dataclasses import dataclass, field
 
 from hw.interfaces import Twist
 from mission.config import LupinConfig
-from mission.robot import Robot
 from mission.route import ROUTES, MoveResult, RouteDriver
-from mission.sim_runtime import start_sim_runtime
-from sim.backend import SimRobot
+from mission.sim_runtime import SimRuntime, start_sim_runtime
 from sim.world import World
 
 LIDAR_RATE = 10.0
@@ -21,9 +19,7 @@ ROUTE_TIMEOUT_S = 600.0
 
 
 @dataclass
-class DriveRun:
-    sim: SimRobot
-    robot: Robot
+class DriveRun(SimRuntime):
     driver: RouteDriver
     scans: int = 0
     bumps: dict[str, float] = field(default_factory=dict)
@@ -52,11 +48,14 @@ def start_drive(world: World, config: LupinConfig, route: str) -> DriveRun:
     def lidar_tick(now: float) -> None:
         if sim.hal.lidar.latest_scan() is not None:
             run.scans += 1
+
+    def bump_watch(now: float) -> None:
         for name in sim.touching():
             run.bumps.setdefault(name, now)
 
     robot.scheduler.every("route", config.hw.base.control_rate, driver.tick)
     robot.scheduler.every("lidar", LIDAR_RATE, lidar_tick)
+    robot.scheduler.every("bumps", config.hw.base.control_rate, bump_watch)
     return run
 
 

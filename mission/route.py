@@ -65,7 +65,7 @@ class MoveResult:
 
 
 class RouteDriver:
-    """Drives ``moves`` one after another. ``odom()`` and ``truth()`` return Pose2D-likes."""
+    """Drives ``moves`` one after another. ``odom()`` and ``truth()`` return Pose2Ds."""
 
     def __init__(self, moves: list[Move], publish: Callable[[Twist, float], None],
                  odom: Callable[[], Pose2D], truth: Callable[[], Pose2D]):

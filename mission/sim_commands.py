@@ -10,7 +10,7 @@ from typing import Optional
 import typer
 
 from hw.errors import InputError
-from mission.config import LupinConfig, load_config, save_config
+from mission.config import LupinConfig, load_config, save_config, with_seed
 from mission.route import ROUTES
 
 sim_app = typer.Typer(help="The simulated greenhouse.", no_args_is_help=True)
@@ -26,12 +26,6 @@ def _world(path: Optional[Path]):
     from sim.world import load_default_world, load_world
 
     return load_default_world() if path is None else load_world(path)
-
-
-def _seeded(config: LupinConfig, seed: Optional[int]) -> LupinConfig:
-    if seed is None:
-        return config
-    return config.model_copy(update={"sim": config.sim.model_copy(update={"seed": seed})})
 
 
 def parse_pose(text: str) -> tuple[float, float, float]:
@@ -82,7 +76,7 @@ def drive(
     """Drive a scripted route and print wheel odometry against the sim's ground truth."""
     if route not in ROUTES:
         raise InputError(f"--route {route!r}: unknown route; known: {', '.join(ROUTES)}")
-    config = _seeded(run_config(ctx), seed)
+    config = run_config(ctx) if seed is None else with_seed(run_config(ctx), seed)
     w = _world(world)
     from mission.drive_job import drive as run_drive
     from mission.drive_report import format_results, results_json

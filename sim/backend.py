@@ -6,12 +6,11 @@ clock advances the physics. Above the HAL nothing knows it is simulated.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import mujoco
 import numpy as np
 
 from hw.interfaces import Hal
+from hw.odometry import Pose2D
 from mission.clock import SimClock
 from mission.config import LupinConfig
 from sim.cameras import RendererPool, SimCamera
@@ -26,13 +25,6 @@ from sim.world import World
 
 BASE_JOINTS = ("base_x", "base_y", "base_yaw")
 CAMERAS = {"front": "front_camera", "wrist": "wrist_camera"}
-
-
-@dataclass(frozen=True)
-class TruthPose:
-    x: float
-    y: float
-    yaw: float
 
 
 class SimRobot:
@@ -69,10 +61,10 @@ class SimRobot:
             cameras=cams,
         )
 
-    def truth(self) -> TruthPose:
+    def truth(self) -> Pose2D:
         """Ground-truth base pose in the world frame (what odometry is judged against)."""
         x, y, yaw = self.engine.data.qpos[self._base_qpos]
-        return TruthPose(float(x), float(y), float(yaw))
+        return Pose2D(float(x), float(y), float(yaw))
 
     def touching(self) -> list[str]:
         """Names of the world geoms the chassis is in contact with right now (bumps)."""

@@ -6,7 +6,7 @@ import time
 import numpy as np
 
 from mission.bench import Sample, benchmark
-from mission.config import LupinConfig
+from mission.config import LupinConfig, with_seed
 from mission.drive_job import start_drive
 from sim.backend import SimRobot
 from sim.world import load_default_world
@@ -24,8 +24,7 @@ def realtime(config: LupinConfig) -> Sample:
     world = load_default_world()
     times = []
     for i in range(RUNS):
-        seeded = config.model_copy(update={"sim": config.sim.model_copy(update={"seed": config.sim.seed + i})})
-        run = start_drive(world, seeded, "tour")
+        run = start_drive(world, with_seed(config, config.sim.seed + i), "tour")
         t0 = time.perf_counter()
         run.robot.scheduler.run_until(RUN_SIM_S)
         times.append((time.perf_counter() - t0) * 1000.0 / RUN_SIM_S)

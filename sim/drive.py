@@ -82,7 +82,7 @@ class SimDrive:
 
     def pre_chunk(self, t: float) -> None:
         tw = self.mecanum.forward(self.engine.data.qvel[self._wheel_dof])
-        slip = self._slip * (1.0 + self.drive.slip_jitter / np.maximum(self._slip, 1e-9) * self._rng.standard_normal(3))
+        slip = self._slip + self.drive.slip_jitter * self._rng.standard_normal(3)
         self.engine.data.ctrl[self._traction] = np.array((tw.vx, tw.vy, tw.wz)) * (1.0 - np.clip(slip, 0.0, 1.0))
 
     def load(self) -> float:

@@ -30,7 +30,6 @@ class Engine:
         self._steps = 0
         self._chunk = max(1, round(config.physics.drive_update / self._dt))
         self._devices: list[ChunkDevice] = []
-        self.rng = np.random.default_rng(config.seed)
 
     # --- names -----------------------------------------------------------------------------
     def id(self, kind: mujoco.mjtObj, name: str) -> int:

@@ -58,6 +58,7 @@ class SimServoBus:
             act = engine.actuator(joint)
             s = _Servo(joint, calib, act, engine.joint_qpos(joint), float(m.actuator_gainprm[act, 0]))
             s.setpoint = s.start = s.target = float(engine.data.qpos[s.qpos])
+            engine.data.ctrl[act] = s.setpoint
             self._servos[calib.id] = s
         engine.attach(self)
 
@@ -106,6 +107,7 @@ class SimServoBus:
         here = float(self.engine.data.qpos[s.qpos])
         s.start = s.target = s.setpoint = here
         s.duration = 0.0
+        self.engine.data.ctrl[s.act] = here  # re-loading holds where the joint sagged to
         self._set_gain(s, s.kp if loaded else 0.0)
 
     def adjust_offset(self, servo_id: int, offset: int) -> None:
@@ -156,5 +158,5 @@ class SimServoBus:
 
     def pre_chunk(self, t: float) -> None:
         for s in self._servos.values():
-            if s.loaded:
+            if s.loaded and s.setpoint != s.target:  # a finished ramp already holds its ctrl
                 self._apply(s, t)

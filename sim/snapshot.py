@@ -27,9 +27,11 @@ def render_snapshot(world: World, config: LupinConfig, camera: str,
             sim.servos.place(preset("inspect"))
         sim.engine.forward()
         if camera == "overview":
+            # The orthographic overview frames the floor's y extent; an image of the floor's
+            # aspect then shows all of x too (clamped to sane sizes for extreme floors).
             width = config.sim.camera.width
-            height = int(round(width * world.floor.y / world.floor.x)) if world.floor.x >= world.floor.y else width
-            rgb = sim.renderers.render("overview", width, max(240, min(height, 2 * width)))
+            height = min(max(round(width * world.floor.y / world.floor.x), 240), 2 * width)
+            rgb = sim.renderers.render("overview", width, height)
             return np.ascontiguousarray(rgb[:, :, ::-1])
         return sim.hal.cameras[camera].capture()
     finally:

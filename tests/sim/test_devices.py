@@ -132,6 +132,7 @@ def test_gravity_sags_an_unloaded_shoulder_and_a_latched_servo_ignores_moves(rig
     assert not sim.hal.servos.read_status(lift).loaded
     robot.scheduler.run_until(3.0)
     assert abs(sim.servos.joint_position("shoulder_lift") - held) > 0.15  # went limp and fell
+    sagged = sim.servos.joint_position("shoulder_lift")
     sim.hal.servos.set_load(lift, True)
     sim.faults.servo_stall("elbow", mode="latch")
     elbow = robot.config.hw.servos.joints["elbow"].id
@@ -139,6 +140,7 @@ def test_gravity_sags_an_unloaded_shoulder_and_a_latched_servo_ignores_moves(rig
     sim.hal.servos.move(elbow, sim.hal.servos.read_position(elbow) + 150, 200)
     robot.scheduler.run_until(4.0)
     assert sim.servos.joint_position("elbow") == pytest.approx(before, abs=0.05)
+    assert sim.servos.joint_position("shoulder_lift") == pytest.approx(sagged, abs=0.1)  # re-loaded: holds, no jump
 
 
 @pytest.mark.parametrize("order, matches", [("BRG", True), ("GRB", False)])
