@@ -11,7 +11,6 @@ from __future__ import annotations
 from typing import Protocol
 
 import mujoco
-import numpy as np
 
 from sim.config import SimConfig
 
