@@ -15,9 +15,12 @@ from typing import Any, Mapping
 import yaml
 from pydantic import BaseModel, ConfigDict, ValidationError
 
+from arm.config import ArmConfig
 from hw.config import HwConfig
 from hw.errors import InputError
-from mission.input_file import read_yaml
+from hw.input_file import read_yaml
+from nav.config import NavConfig
+from perception.config import PerceptionConfig
 from sim.config import SimConfig
 
 ENV_PREFIX = "LUPIN_"
@@ -31,6 +34,12 @@ class LupinConfig(BaseModel):
 
     hw: HwConfig = HwConfig()
     """Hardware services: base control, twist_mux, e-stop bridge, LEDs, servo bus."""
+    nav: NavConfig = NavConfig()
+    """Navigation: costmaps, planner, MPPI, velocity smoother, goal checker, navigator."""
+    arm: ArmConfig = ArmConfig()
+    """The arm: limits, trajectory controller, gripper, stall handling, IK."""
+    perception: PerceptionConfig = PerceptionConfig()
+    """The flower detector, the tag reader and the camera pipeline."""
     sim: SimConfig = SimConfig()
     """The MuJoCo greenhouse backend."""
 

@@ -109,6 +109,7 @@ def snapshot(
         raise InputError(f"{output}: directory {output.parent} does not exist")
     from sim.snapshot import render_snapshot, write_png
 
-    image = render_snapshot(_world(world), run_config(ctx), camera, xyyaw)
+    config = run_config(ctx)
+    image = render_snapshot(_world(world), config.sim, config.hw, camera, xyyaw)
     write_png(output, image)
     print(f"wrote {output} ({image.shape[1]}x{image.shape[0]}, {camera} camera)")

@@ -28,7 +28,7 @@ class SimRuntime:
 def start_sim_runtime(world: World, config: LupinConfig) -> SimRuntime:
     """Build the sim and the services on it and schedule them (nothing has run yet)."""
     controllers = ControllerManager(config.hw.controllers)
-    sim = SimRobot(world, config, controllers)
+    sim = SimRobot(world, config.sim, config.hw, controllers)
     robot = build_robot(config, sim.hal, controllers)
     robot.start()
     return SimRuntime(sim, robot)

@@ -1,6 +1,6 @@
 """The MuJoCo backend: a simulated MIRTE Master V2 in a greenhouse, behind the HAL.
 
-``SimRobot(world, config)`` builds the greenhouse model from a world file, places the robot at
+``SimRobot(world, sim_config, hw_config)`` builds the greenhouse model from a world file, places the robot at
 the world's spawn pose, and wires every simulated device into a ``hw.interfaces.Hal`` whose
 clock advances the physics. Above the HAL nothing knows it is simulated.
 """
@@ -9,11 +9,12 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from hw.config import HwConfig
 from hw.interfaces import Hal
 from hw.odometry import Pose2D
-from mission.clock import SimClock
-from mission.config import LupinConfig
 from sim.cameras import RendererPool, SimCamera
+from sim.clock import SimClock
+from sim.config import SimConfig
 from sim.drive import SimDrive
 from sim.engine import Engine
 from sim.faults import SimFaults
@@ -28,22 +29,22 @@ CAMERAS = {"front": "front_camera", "wrist": "wrist_camera"}
 
 
 class SimRobot:
-    def __init__(self, world: World, config: LupinConfig, controllers=None):
+    def __init__(self, world: World, sim_config: SimConfig, hw_config: HwConfig, controllers=None):
         self.world = world
-        self.config = config
-        sc = config.sim
+        self.sim_config, self.hw_config = sim_config, hw_config
+        sc = sim_config
         self.engine = engine = Engine(build_greenhouse(world, sc.geometry), sc)
         self._base_qpos = np.array([engine.joint_qpos(j) for j in BASE_JOINTS])
         engine.data.qpos[self._base_qpos] = (world.spawn.x, world.spawn.y, world.spawn.yaw)
         engine.forward()
         self._chassis = engine.id(mujoco.mjtObj.mjOBJ_GEOM, "chassis")
 
-        self.drive = SimDrive(engine, sc.drive, config.hw.base)
+        self.drive = SimDrive(engine, sc.drive, hw_config.base)
         self.battery = SimBattery(engine, sc.battery, self.drive.load)
-        self.servos = SimServoBus(engine, config.hw.servos, sc.servo_noise_counts, self.battery.voltage_mv)
+        self.servos = SimServoBus(engine, hw_config.servos, sc.servo_noise_counts, self.battery.voltage_mv)
         self.lidar = SimLidar(engine, sc.lidar)
-        self.button = SimEStopButton(config.hw.estop.engaged_level)
-        self.leds = SimLedStrip(engine, config.hw.leds.num_leds, sc.led_wiring)
+        self.button = SimEStopButton(hw_config.estop.engaged_level)
+        self.leds = SimLedStrip(engine, hw_config.leds.num_leds, sc.led_wiring)
         self.renderers = RendererPool(engine)
         self.faults = SimFaults(engine, self.lidar, self.servos, self.battery, self.button, controllers)
         self.clock = SimClock(engine.advance_to, start=engine.time)

@@ -8,18 +8,19 @@ import numpy as np
 
 from arm.presets import preset
 from hw.errors import InputError
-from mission.config import LupinConfig
+from hw.config import HwConfig
 from sim.backend import SimRobot
+from sim.config import SimConfig
 from sim.world import World
 
 
-def render_snapshot(world: World, config: LupinConfig, camera: str,
+def render_snapshot(world: World, sim_config: SimConfig, hw_config: HwConfig, camera: str,
                     pose: tuple[float, float, float] | None = None) -> np.ndarray:
     """BGR image of ``camera`` ('front', 'wrist' or 'overview') with the robot at ``pose``.
 
     The wrist camera is shown with the arm at ``inspect``, the pose it is used in on patrol.
     """
-    sim = SimRobot(world, config)
+    sim = SimRobot(world, sim_config, hw_config)
     try:
         if pose is not None:
             sim.place(*pose)
@@ -29,7 +30,7 @@ def render_snapshot(world: World, config: LupinConfig, camera: str,
         if camera == "overview":
             # The orthographic overview frames the floor's y extent; an image of the floor's
             # aspect then shows all of x too (clamped to sane sizes for extreme floors).
-            width = config.sim.camera.width
+            width = sim_config.camera.width
             height = min(max(round(width * world.floor.y / world.floor.x), 240), 2 * width)
             rgb = sim.renderers.render("overview", width, height)
             return np.ascontiguousarray(rgb[:, :, ::-1])

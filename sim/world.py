@@ -27,7 +27,7 @@ import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from hw.errors import InputError
-from mission.input_file import error_lines, kind_of, read_yaml
+from hw.input_file import error_lines, kind_of, read_yaml
 from sim.config import GreenhouseGeometry
 from sim.world_checks import ROBOT_RADIUS, world_problems
 

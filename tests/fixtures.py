@@ -21,7 +21,7 @@ from hw.controller_manager import ControllerManager, ControllerState
 from hw.estop import EStopBridge
 from hw.interfaces import DeviceError
 from hw.twist_mux import TwistMux
-from mission.clock import SimClock
+from sim.clock import SimClock
 from mission.scheduler import Scheduler
 
 

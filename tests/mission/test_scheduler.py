@@ -1,7 +1,7 @@
 """The rate scheduler on the sim clock: rates, ordering, exact times, determinism."""
 import pytest
 
-from mission.clock import SimClock
+from sim.clock import SimClock
 from mission.scheduler import Scheduler
 
 

@@ -38,7 +38,7 @@ def realtime(config: LupinConfig) -> Sample:
 @benchmark("sim.render")
 def render(config: LupinConfig) -> Sample:
     """One 640x480 front-camera frame (EGL offscreen, CPU), after a warm-up frame."""
-    sim = SimRobot(load_default_world(), config)
+    sim = SimRobot(load_default_world(), config.sim, config.hw)
     cam = sim.hal.cameras["front"]
     cam.capture()
     times = []

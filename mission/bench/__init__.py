@@ -1,13 +1,17 @@
 """`lupin bench`: the project's benchmark harness.
 
 A benchmark is a function ``(config) -> Sample`` registered under a dotted name
-("sim.realtime"); ``lupin bench sim`` runs every benchmark in the ``sim`` group. Each reports
+("sim.realtime"); ``lupin bench sim`` runs every benchmark in the ``sim`` group. Each group
+lives in a module of this package named after it (``mission/bench/sim.py``, ``nav.py``, ...),
+so benchmarks may use any layer below the mission and no lower package imports this one. Each reports
 the median and p95 of its samples in milliseconds plus its own figures (a real-time factor,
 say). Wall time is read here, in the harness, never in the runtime or in tests.
 """
 from __future__ import annotations
 
+import importlib
 import json
+import pkgutil
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -37,7 +41,9 @@ def benchmark(name: str):
 
 
 def _load_all() -> None:
-    import sim.bench  # noqa: F401  (registers the sim benchmarks)
+    """Import every module of this package: each registers its group's benchmarks."""
+    for info in pkgutil.iter_modules(__path__):
+        importlib.import_module(f"{__name__}.{info.name}")
 
 
 def select(names: list[str]) -> list[str]:

@@ -1,0 +1,96 @@
+"""Configuration of navigation: costmaps, planner, MPPI, velocity smoother, goal checker,
+navigator (seed: ../shared/seeds/001_*, the navigation page).
+
+Coupled values are derived, not copied: the velocity smoother's limits follow the MPPI envelope
+(the seed's "triple coupling": MPPI accel, smoother accel and smoother velocity must all mirror
+the MPPI velocity envelope, or the smoother chops the very trajectory MPPI just optimised and
+PathAlign drifts). An explicit smoother override stays possible and is validated against the
+envelope. Override in YAML or ``LUPIN_NAV__...``.
+"""
+from __future__ import annotations
+
+from typing import Optional
+
+from pydantic import Field, model_validator
+
+from hw.config import Strict
+from nav.costmap.config import CostmapsConfig
+from nav.mppi.config import MppiConfig
+
+Triple = tuple[float, float, float]
+
+
+class PlannerConfig(Strict):
+    tolerance: float = Field(0.5, ge=0)
+    """When the goal cell is blocked, plan to the nearest reachable cell within this many
+    metres of it (seed: NavfnPlanner tolerance 0.5)."""
+    allow_unknown: bool = True
+    """Plan through unknown space (seed: allow_unknown true): with SLAM the map starts empty."""
+    rate: float = Field(1.0, gt=0)
+    """Replanning rate, Hz (Nav2's navigate-to-pose tree replans at 1 Hz)."""
+
+
+class SmootherConfig(Strict):
+    """Velocity smoother between the controller and the mux's ``auto`` source (seed:
+    velocity_smoother). Leave a field unset to derive it from the MPPI envelope."""
+
+    max_velocity: Optional[Triple] = None
+    """(vx, vy, wz) upper limits; default: (vx_max, vy_max, wz_max) of MPPI = (0.5, 0.5, 1.9)."""
+    min_velocity: Optional[Triple] = None
+    """(vx, vy, wz) lower limits; default: (vx_min, vy_min, -wz_max) = (-0.35, -0.5, -1.9)."""
+    max_accel: Optional[Triple] = None
+    """(ax, ay, az) acceleration limits; default: MPPI's (2.5, 2.5, 3.2)."""
+    max_decel: Optional[Triple] = None
+    """(ax, ay, az) deceleration limits, negative; default: the acceleration mirrored."""
+
+
+class GoalCheckerConfig(Strict):
+    xy_tolerance: float = Field(0.25, gt=0)
+    """Goal reached within this distance, m (seed: xy_goal_tolerance 0.25)."""
+    yaw_tolerance: float = Field(0.12, gt=0)
+    """Goal heading tolerance, rad (seed: yaw_goal_tolerance 0.12, ~7 deg). Tight on purpose:
+    it frames the AprilTag head-on at each approach pose so the climate read is clean. The seed
+    records that it "can bite" on hardware (MPPI iterating near the goal can blow the timeout)
+    and that the documented fallback is to loosen it towards ~0.18 rad, trading camera framing
+    for approach reliability. We keep 0.12 and measure how often it bites."""
+
+
+class NavConfig(Strict):
+    """Navigation stack."""
+
+    costmap: CostmapsConfig = CostmapsConfig()
+    """Local and global costmaps (seed: narrow-aisle costmaps)."""
+    planner: PlannerConfig = PlannerConfig()
+    """NavFn-style Dijkstra global planner."""
+    mppi: MppiConfig = MppiConfig()
+    """The MPPI controller with the Omni motion model."""
+    smoother: SmootherConfig = SmootherConfig()
+    """Velocity smoother; limits derived from ``mppi`` unless given."""
+    goal_checker: GoalCheckerConfig = GoalCheckerConfig()
+    """SimpleGoalChecker tolerances."""
+
+    @model_validator(mode="after")
+    def _derive_smoother(self) -> "NavConfig":
+        m, s = self.mppi, self.smoother
+        envelope_max = (m.vx_max, m.vy_max, m.wz_max)
+        envelope_min = (m.vx_min, m.vy_min, -m.wz_max)
+        accel = (m.ax_max, m.ay_max, m.az_max)
+        derived = {
+            "max_velocity": envelope_max if s.max_velocity is None else s.max_velocity,
+            "min_velocity": envelope_min if s.min_velocity is None else s.min_velocity,
+            "max_accel": accel if s.max_accel is None else s.max_accel,
+        }
+        derived["max_decel"] = (tuple(-a for a in derived["max_accel"]) if s.max_decel is None
+                                else s.max_decel)
+        axes = ("vx", "vy", "wz")
+        for i, axis in enumerate(axes):
+            if derived["max_velocity"][i] < envelope_max[i] - 1e-9:
+                raise ValueError(f"smoother.max_velocity {axis} {derived['max_velocity'][i]} is below the MPPI "
+                                 f"envelope {envelope_max[i]}: the smoother would chop MPPI's trajectories")
+            if derived["min_velocity"][i] > envelope_min[i] + 1e-9:
+                raise ValueError(f"smoother.min_velocity {axis} {derived['min_velocity'][i]} is above the MPPI "
+                                 f"envelope {envelope_min[i]}: the smoother would chop MPPI's trajectories")
+            if derived["max_accel"][i] <= 0 or derived["max_decel"][i] >= 0:
+                raise ValueError(f"smoother accel/decel {axis}: max_accel must be > 0 and max_decel < 0")
+        object.__setattr__(self, "smoother", SmootherConfig.model_construct(**derived))
+        return self
