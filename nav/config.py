@@ -55,6 +55,31 @@ class GoalCheckerConfig(Strict):
     for approach reliability. We keep 0.12 and measure how often it bites."""
 
 
+class NavigatorConfig(Strict):
+    """Navigate-to-pose behaviour around the planner and the controller."""
+
+    local_costmap_rate: float = Field(5.0, gt=0)
+    """Local costmap update rate, Hz (seed: the 3 x 3 m rolling window updates at 5.0 Hz)."""
+    global_costmap_rate: float = Field(1.0, gt=0)
+    """Global costmap update rate, Hz (Nav2's default update_frequency for the global map)."""
+    default_timeout: float = Field(60.0, gt=0)
+    """Seconds a goal may take when the caller gives none (the original mission's 60 s per
+    navigation attempt, reference/upstream.md)."""
+    max_recoveries: int = Field(3, ge=0)
+    """Recoveries (clear the local costmap, back off, retry) before a goal fails with 'no valid
+    control'. Bounded so a wedged robot reports instead of trying forever."""
+    max_plan_failures: int = Field(3, ge=1)
+    """Consecutive planning failures (at the replan rate) before a goal fails: the first may be
+    a costmap not yet cleared of a passing obstacle, three in a row is a blocked route."""
+    backoff_speed: float = Field(0.10, gt=0)
+    """Recovery back-off speed away from the nearest obstacle, m/s (slow: it drives blind to
+    the plan, only the costmap says which way is clear)."""
+    backoff_time: float = Field(1.0, gt=0)
+    """Recovery back-off duration, s (0.10 m at the default speed)."""
+    lidar_mount: tuple[float, float, float] = (0.115, 0.0, 0.0)
+    """Lidar pose in base_link (x, y, yaw): the MIRTE model's lidar post (sim model README)."""
+
+
 class NavConfig(Strict):
     """Navigation stack."""
 
@@ -68,6 +93,8 @@ class NavConfig(Strict):
     """Velocity smoother; limits derived from ``mppi`` unless given."""
     goal_checker: GoalCheckerConfig = GoalCheckerConfig()
     """SimpleGoalChecker tolerances."""
+    navigator: NavigatorConfig = NavigatorConfig()
+    """Navigate-to-pose: rates, timeout, recovery."""
 
     @model_validator(mode="after")
     def _derive_smoother(self) -> "NavConfig":

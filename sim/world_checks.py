@@ -75,23 +75,31 @@ def world_problems(
                 )
 
     s = world.spawn
-    out += [f"spawn: {p}" for p in _circle_in_floor(s.x, s.y, robot_radius, fx, fy, "robot")]
-    for i, pot in enumerate(world.pots):
-        d, need = math.hypot(pot.x - s.x, pot.y - s.y), robot_radius + r
-        if d < need - _EPS:
-            got, want = _pair(d, need)
-            out.append(
-                f"spawn overlaps {_pot(i, world)}: centres {got} m apart, need >= {want} m "
-                f"(robot radius {robot_radius:.2f} m + pot radius {r:.2f} m) (fields 'x', 'y')"
-            )
-    for j, box in enumerate(world.obstacles):
-        d = _distance_to_box(s.x, s.y, box)
-        if d < robot_radius - _EPS:
-            out.append(f"spawn overlaps obstacles[{j}]: {_gap(d, robot_radius, 'robot')} (fields 'x', 'y')")
+    out += [f"spawn{p}" for p in robot_circle_problems(world, s.x, s.y, r, robot_radius)]
 
     for tag in world.climate:
         if tag not in first_tag:
             out.append(f"climate[{tag}]: key {tag}: no pot carries tag {tag}")
+    return out
+
+
+def robot_circle_problems(world: World, x: float, y: float, pot_radius: float,
+                          robot_radius: float = ROBOT_RADIUS) -> list[str]:
+    """Why the robot's circle at (x, y) is outside the floor or touches a pot or a box (each
+    line starts with ': ' or ' overlaps ...', ready to follow the name of what was placed)."""
+    out = [f": {p}" for p in _circle_in_floor(x, y, robot_radius, world.floor.x, world.floor.y, "robot")]
+    for i, pot in enumerate(world.pots):
+        d, need = math.hypot(pot.x - x, pot.y - y), robot_radius + pot_radius
+        if d < need - _EPS:
+            got, want = _pair(d, need)
+            out.append(
+                f" overlaps {_pot(i, world)}: centres {got} m apart, need >= {want} m "
+                f"(robot radius {robot_radius:.2f} m + pot radius {pot_radius:.2f} m) (fields 'x', 'y')"
+            )
+    for j, box in enumerate(world.obstacles):
+        d = _distance_to_box(x, y, box)
+        if d < robot_radius - _EPS:
+            out.append(f" overlaps obstacles[{j}]: {_gap(d, robot_radius, 'robot')} (fields 'x', 'y')")
     return out
 
 

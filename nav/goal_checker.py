@@ -1,0 +1,27 @@
+"""Has the robot arrived? Nav2's SimpleGoalChecker, stateful.
+
+Position within ``xy_tolerance`` (0.25 m) and heading within ``yaw_tolerance`` (0.12 rad; the
+seed's tight value, which frames the AprilTag head-on; see ``GoalCheckerConfig`` for the 0.18
+rad fallback and why we do not take it). Stateful like Nav2's default: once the position has
+been inside its tolerance, only the heading is checked until ``reset()``, so a robot squaring up
+its heading is not sent back because the turn nudged it a centimetre past the xy circle.
+"""
+from __future__ import annotations
+
+from hw.odometry import Pose2D
+from nav.config import GoalCheckerConfig
+from nav.frames import distance, yaw_error
+
+
+class GoalChecker:
+    def __init__(self, config: GoalCheckerConfig):
+        self.config = config
+        self._xy_latched = False
+
+    def reset(self) -> None:
+        self._xy_latched = False
+
+    def reached(self, pose: Pose2D, goal: Pose2D) -> bool:
+        if not self._xy_latched and distance(pose, goal) <= self.config.xy_tolerance:
+            self._xy_latched = True
+        return self._xy_latched and yaw_error(pose, goal) <= self.config.yaw_tolerance
