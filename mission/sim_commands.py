@@ -28,16 +28,24 @@ def _world(path: Optional[Path]):
     return load_default_world() if path is None else load_world(path)
 
 
-def parse_pose(text: str) -> tuple[float, float, float]:
+def parse_pose(text: str, option: str = "--pose") -> tuple[float, float, float]:
     """'X,Y,YAW' in metres and radians, world frame."""
     parts = text.split(",")
     try:
         x, y, yaw = (float(p) for p in parts)
     except ValueError:
-        raise InputError(f"--pose {text!r}: expected X,Y,YAW (metres, metres, radians), e.g. 1.0,0.5,0") from None
+        raise InputError(f"{option} {text!r}: expected X,Y,YAW (metres, metres, radians), e.g. 1.0,0.5,0") from None
     if not all(math.isfinite(v) for v in (x, y, yaw)):
-        raise InputError(f"--pose {text!r}: values must be finite numbers")
+        raise InputError(f"{option} {text!r}: values must be finite numbers")
     return x, y, yaw
+
+
+def _png_output(path: Path, what: str) -> Path:
+    if path.suffix.lower() != ".png":
+        raise InputError(f"{path}: {what} must be a .png file")
+    if not path.parent.is_dir():
+        raise InputError(f"{path}: directory {path.parent} does not exist")
+    return path
 
 
 @sim_app.command("generate")
@@ -103,13 +111,75 @@ def snapshot(
     if camera not in ("front", "wrist", "overview"):
         raise InputError(f"--camera {camera!r}: expected front, wrist or overview")
     xyyaw = parse_pose(pose) if pose is not None else None
-    if output.suffix.lower() != ".png":
-        raise InputError(f"{output}: snapshot output must be a .png file")
-    if not output.parent.is_dir():
-        raise InputError(f"{output}: directory {output.parent} does not exist")
+    _png_output(output, "snapshot output")
     from sim.snapshot import render_snapshot, write_png
 
     config = run_config(ctx)
     image = render_snapshot(_world(world), config.sim, config.hw, camera, xyyaw)
     write_png(output, image)
     print(f"wrote {output} ({image.shape[1]}x{image.shape[0]}, {camera} camera)")
+
+
+@sim_app.command("navigate")
+def navigate(
+    ctx: typer.Context,
+    to: str = typer.Option(..., "--to", help="Goal X,Y,YAW in the world frame (metres, radians)."),
+    world: Optional[Path] = typer.Option(None, "--world", help="World file (default: the built-in greenhouse)."),
+    seed: Optional[int] = typer.Option(None, "--seed", help="Sim seed (overrides config)."),
+    timeout: Optional[float] = typer.Option(None, "--timeout", help="Seconds of sim time for the goal (default: config)."),
+    picture: Optional[Path] = typer.Option(None, "--picture", help="Draw costmap, plan and driven path to this PNG."),
+    as_json: bool = typer.Option(False, "--json", help="Print one JSON object with the outcome."),
+) -> None:
+    """Navigate from the spawn pose to a goal through the whole navigation stack."""
+    import time
+
+    from hw.odometry import Pose2D
+    from mission.navigate_job import start_navigate
+    from mission.nav_picture import draw_run, write_picture
+    from sim.world_checks import robot_circle_problems
+
+    goal = Pose2D(*parse_pose(to, "--to"))
+    if timeout is not None and not (math.isfinite(timeout) and timeout > 0):
+        raise InputError(f"--timeout {timeout}: must be a positive number of seconds")
+    if picture is not None:
+        _png_output(picture, "--picture")
+    config = run_config(ctx) if seed is None else with_seed(run_config(ctx), seed)
+    w = _world(world)
+    problems = robot_circle_problems(w, goal.x, goal.y, config.sim.geometry.pot_radius, config.nav.costmap.robot_radius)
+    if problems:
+        raise InputError(f"--to {to}: bad goal, the robot there{problems[0]}")
+
+    run = start_navigate(w, config)
+    tty = sys.stdout.isatty() and not as_json
+
+    def progress(r) -> None:
+        fb = r.nav.feedback(r.now)
+        print(f"  t {r.now:6.1f} s  {fb.state.value:<10} {fb.distance_remaining:5.2f} m to go", flush=True)
+
+    t0 = time.perf_counter()
+    try:
+        outcome = run.go(goal, timeout, progress if tty else None)
+        wall = time.perf_counter() - t0
+        xy, yaw = run.truth_error(goal)
+        result = {"outcome": outcome, "reason": run.nav.reason, "sim_time_s": round(run.now, 2),
+                  "wall_time_s": round(wall, 2), "distance_m": round(run.distance, 3),
+                  "truth_error": {"xy": round(xy, 4), "yaw": round(yaw, 4)}}
+        if picture is not None:
+            write_picture(picture, draw_run(run.nav.global_costmap.grid, run.nav.path,
+                                            [run.to_map(p) for p in run.odom_path],
+                                            [run.to_map(p) for p in run.truth_path], run.to_map(goal),
+                                            config.nav.goal_checker.xy_tolerance))
+    finally:
+        run.close()
+    if as_json:
+        print(json.dumps(result))
+    else:
+        why = f" ({result['reason']})" if result["reason"] else ""
+        print(f"{outcome}{why}: {result['sim_time_s']:.1f} s sim, {wall:.1f} s wall, {run.distance:.2f} m driven; "
+              f"truth error {xy:.3f} m, {math.degrees(yaw):.1f} deg")
+        if run.bumps:
+            print(f"bumped into: {', '.join(run.bumps)}")
+        if picture is not None:
+            print(f"wrote {picture}")
+    if outcome != "succeeded":
+        raise typer.Exit(1)

@@ -1,0 +1,78 @@
+"""A picture of a navigation run a person can look at: the global costmap, the plan, and the
+driven path as the robot believed it (odometry) and as it was (sim ground truth).
+
+Drawn in the map frame (origin = the robot's start pose), north of the map up. Colours: unknown
+grey, free white, inflated cost in orange shades, inscribed red, lethal black; plan blue,
+odometry green, truth magenta; the goal as a circle of the xy tolerance with its heading.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Sequence
+
+import cv2
+import numpy as np
+
+from hw.errors import InputError
+from hw.odometry import Pose2D
+from nav.costmap.grid import INSCRIBED, LETHAL, UNKNOWN, CostGrid
+
+PX_PER_CELL = 4
+MARGIN_M = 0.6
+BLUE, GREEN, MAGENTA, BLACK = (200, 80, 0), (40, 160, 40), (180, 40, 200), (0, 0, 0)
+
+
+def _palette() -> np.ndarray:
+    lut = np.zeros((256, 3), dtype=np.uint8)
+    shade = np.linspace(235, 120, 252).astype(np.uint8)  # 1..252: light to deep orange
+    lut[0] = (255, 255, 255)
+    lut[1:253, 0] = shade // 3
+    lut[1:253, 1] = shade * 3 // 4
+    lut[1:253, 2] = 255
+    lut[INSCRIBED] = (60, 60, 220)
+    lut[LETHAL] = (0, 0, 0)
+    lut[UNKNOWN] = (190, 190, 190)
+    return lut
+
+
+def draw_run(grid: CostGrid, plan: np.ndarray | None, odom: Sequence[Pose2D], truth: Sequence[Pose2D],
+             goal: Pose2D, xy_tolerance: float) -> np.ndarray:
+    """BGR image; every pose in the map frame."""
+    pts = [np.array([[p.x, p.y] for p in odom + truth] + [[goal.x, goal.y]])]
+    if plan is not None and len(plan):
+        pts.append(np.asarray(plan)[:, :2])
+    iy, ix = np.nonzero(grid.data != UNKNOWN)
+    if len(ix):
+        pts.append(np.column_stack(grid.cell_to_world(ix, iy)))
+    allp = np.vstack(pts)
+    lo, hi = allp.min(axis=0) - MARGIN_M, allp.max(axis=0) + MARGIN_M
+    (x0, x1), (y0, y1) = (np.clip(v, 0, n) for v, n in (
+        (np.array(grid.world_to_cell([lo[0], hi[0]], [lo[1], hi[1]])[0]), grid.width),
+        (np.array(grid.world_to_cell([lo[0], hi[0]], [lo[1], hi[1]])[1]), grid.height)))
+    crop = grid.data[y0:y1 + 1, x0:x1 + 1]
+    img = _palette()[crop[::-1]]  # rows flipped: map north up
+    img = cv2.resize(img, (img.shape[1] * PX_PER_CELL, img.shape[0] * PX_PER_CELL), interpolation=cv2.INTER_NEAREST)
+    ppm = PX_PER_CELL / grid.resolution
+    ox, oy = grid.origin_x + x0 * grid.resolution, grid.origin_y + (y1 + 1) * grid.resolution
+
+    def px(x, y) -> np.ndarray:
+        return np.column_stack([(np.asarray(x) - ox) * ppm, (oy - np.asarray(y)) * ppm]).round().astype(np.int32)
+
+    if plan is not None and len(plan):
+        cv2.polylines(img, [px(plan[:, 0], plan[:, 1])], False, BLUE, 2, cv2.LINE_AA)
+    for path, colour in ((odom, GREEN), (truth, MAGENTA)):
+        if len(path) > 1:
+            cv2.polylines(img, [px([p.x for p in path], [p.y for p in path])], False, colour, 2, cv2.LINE_AA)
+    g = px([goal.x], [goal.y])[0]
+    cv2.circle(img, tuple(int(v) for v in g), int(xy_tolerance * ppm), BLACK, 1, cv2.LINE_AA)
+    tip = px([goal.x + 0.3 * np.cos(goal.yaw)], [goal.y + 0.3 * np.sin(goal.yaw)])[0]
+    cv2.arrowedLine(img, tuple(int(v) for v in g), tuple(int(v) for v in tip), BLACK, 2, cv2.LINE_AA, tipLength=0.3)
+    legend = [("plan", BLUE), ("odometry", GREEN), ("truth", MAGENTA)]
+    for k, (name, colour) in enumerate(legend):
+        cv2.putText(img, name, (8, 18 + 18 * k), cv2.FONT_HERSHEY_SIMPLEX, 0.5, colour, 1, cv2.LINE_AA)
+    return img
+
+
+def write_picture(path: Path, image: np.ndarray) -> None:
+    if not cv2.imwrite(str(path), image):
+        raise InputError(f"{path}: could not write the picture")

@@ -1,0 +1,315 @@
+"""Navigate-to-pose: the glue between costmaps, the NavFn planner, MPPI and the mux.
+
+One goal at a time, driven entirely by three scheduled ticks (never blocking, never reading a
+wall clock; ``now`` comes from the runtime's scheduler):
+
+==================  =======  ==============================================================
+tick                rate     what
+==================  =======  ==============================================================
+tick_local_costmap  5 Hz     local 3 x 3 m window from the latest scan (seed)
+tick_planner        1 Hz     global costmap from the latest scan, then replan (Nav2's 1 Hz)
+tick_control        20 Hz    goal check, blocked-path replan, MPPI -> smoother -> ``auto``
+==================  =======  ==============================================================
+
+Frames (REP-105): goals, plans and the global costmap live in ``map``; the local costmap and
+MPPI in ``odom``, reached through the localisation's ``map -> odom``. Ground truth is never
+an input.
+
+Outcomes are ``succeeded``, ``failed(reason)`` (timeout, no path, no valid control after the
+bounded recoveries) or ``canceled``. A cancel, and an e-stop (which cancels the goal: the seed's
+e-stop was decorative until it did), publishes a zero twist on ``auto`` at once, so the base
+drives zero from its next tick; after a release nothing restarts by itself: whoever sent the
+goal decides (ISO 13850 practice).
+
+Recovery when MPPI finds no valid control: clear the local costmap, back off slowly away from
+the nearest obstacle for ``backoff_time``, reset the controller and retry, at most
+``max_recoveries`` times per goal.
+"""
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+from enum import Enum
+from typing import Callable, Optional, Protocol
+
+import numpy as np
+
+from hw.interfaces import ZERO_TWIST, LidarScan, Twist
+from hw.odometry import Pose2D
+from nav.config import NavConfig
+from nav.costmap.grid import INSCRIBED, UNKNOWN, CostGrid
+from nav.frames import compose, distance, inverse, transform_path
+from nav.goal_checker import GoalChecker
+from nav.localisation import Localisation
+from nav.smoother import VelocitySmoother
+
+log = logging.getLogger(__name__)
+
+
+class State(str, Enum):
+    IDLE = "idle"
+    FOLLOWING = "following"
+    RECOVERING = "recovering"
+    SUCCEEDED = "succeeded"
+    FAILED = "failed"
+    CANCELED = "canceled"
+
+
+TERMINAL = (State.SUCCEEDED, State.FAILED, State.CANCELED)
+
+
+class Costmap(Protocol):
+    grid: CostGrid
+
+    def update(self, scan: LidarScan, sensor_pose: tuple[float, float, float], robot_xy: tuple[float, float]) -> None: ...
+
+    def clear(self) -> None: ...
+
+
+class Planner(Protocol):
+    def plan(self, grid: CostGrid, start_xy, goal_xy) -> np.ndarray: ...
+
+
+class Controller(Protocol):
+    def compute(self, pose, velocity, path: np.ndarray, goal, grid: CostGrid) -> tuple[float, float, float]: ...
+
+    def reset(self) -> None: ...
+
+
+@dataclass(frozen=True)
+class Feedback:
+    state: State
+    distance_remaining: float
+    elapsed: float
+    recoveries: int
+    replans: int
+    reason: str = ""
+
+
+@dataclass
+class Sources:
+    """What the navigator reads from and writes to the robot (callbacks keep nav below mission)."""
+
+    odom_pose: Callable[[], Pose2D]
+    """``odom -> base_link`` from wheel odometry."""
+    odom_twist: Callable[[], Twist]
+    """The measured body twist."""
+    scan: Callable[[], Optional[LidarScan]]
+    """The latest lidar revolution, None during a dropout."""
+    publish: Callable[[Twist, float], None]
+    """Into the twist_mux's ``auto`` source: autonomy never bypasses the mux (seed)."""
+    estop: Callable[[], bool]
+    """True while the e-stop is engaged."""
+
+
+class Navigator:
+    def __init__(self, config: NavConfig, sources: Sources, localisation: Localisation,
+                 local_costmap: Costmap, global_costmap: Costmap, planner: Planner, controller: Controller):
+        self.config = config
+        self.io = sources
+        self.localisation = localisation
+        self.local_costmap = local_costmap
+        self.global_costmap = global_costmap
+        self.planner = planner
+        self.controller = controller
+        self.smoother = VelocitySmoother(config.smoother)
+        self.goal_checker = GoalChecker(config.goal_checker)
+        mx, my, myaw = config.navigator.lidar_mount
+        self._lidar_mount = Pose2D(mx, my, myaw)
+        self.state = State.IDLE
+        self.reason = ""
+        self.goal: Pose2D | None = None
+        self.path: np.ndarray | None = None
+        """The current global plan, (N, 2) map-frame points."""
+        self._start = self._deadline = self._last_control = 0.0
+        self._recoveries = self._replans = self._plan_failures = 0
+        self._backoff_until = 0.0
+        self._backoff = ZERO_TWIST
+
+    # -- the goal API --------------------------------------------------------------------------
+
+    @property
+    def active(self) -> bool:
+        return self.state in (State.FOLLOWING, State.RECOVERING)
+
+    def navigate_to(self, goal: Pose2D, now: float, timeout: float | None = None) -> None:
+        """Start (or replace) a goal in the map frame; progress via ``feedback``."""
+        self.goal = goal
+        self.state, self.reason = State.FOLLOWING, ""
+        self._start, self._last_control = now, now
+        self._deadline = now + (timeout if timeout is not None else self.config.navigator.default_timeout)
+        self._recoveries = self._replans = self._plan_failures = 0
+        self.path = None
+        self.goal_checker.reset()
+        self.controller.reset()
+        self.smoother.reset()
+        self._replan(now)
+
+    def cancel(self, now: float, reason: str = "canceled") -> None:
+        if self.active:
+            self._finish(State.CANCELED, reason, now)
+
+    def feedback(self, now: float) -> Feedback:
+        return Feedback(self.state, self._remaining(), (now - self._start) if self.goal else 0.0,
+                        self._recoveries, self._replans, self.reason)
+
+    def map_pose(self) -> Pose2D:
+        """The robot in the map frame: ``map -> odom`` composed with odometry."""
+        return compose(self.localisation.map_to_odom(), self.io.odom_pose())
+
+    # -- scheduled ticks -----------------------------------------------------------------------
+
+    def tick_local_costmap(self, now: float) -> None:
+        self._update(self.local_costmap, self.io.odom_pose())
+
+    def tick_planner(self, now: float) -> None:
+        self._update(self.global_costmap, self.map_pose())
+        if self.state is State.FOLLOWING:
+            self._replan(now)
+
+    def tick_control(self, now: float) -> None:
+        if not self.active:
+            return
+        if self.io.estop():
+            self._finish(State.CANCELED, "e-stop engaged", now)
+            return
+        if now >= self._deadline:
+            self._finish(State.FAILED, f"timeout after {now - self._start:.1f} s", now)
+            return
+        dt, self._last_control = now - self._last_control, now
+        pose = self.map_pose()
+        if self.goal_checker.reached(pose, self.goal):
+            self._finish(State.SUCCEEDED, "", now)
+            return
+        if self.state is State.RECOVERING:
+            self._recover(now, dt)
+            return
+        if self.path is None or self._path_blocked():
+            self._update(self.global_costmap, pose)
+            if not self._replan(now):
+                return
+        self._follow(pose, now, dt)
+
+    # -- the pieces ----------------------------------------------------------------------------
+
+    def _update(self, costmap: Costmap, base: Pose2D) -> None:
+        scan = self.io.scan()
+        if scan is None:
+            return
+        lidar = compose(base, self._lidar_mount)
+        costmap.update(scan, (lidar.x, lidar.y, lidar.yaw), (base.x, base.y))
+
+    def _replan(self, now: float) -> bool:
+        from nav.planner import PlanningError  # the planner's own error type
+
+        pose = self.map_pose()
+        try:
+            self.path = self.planner.plan(self.global_costmap.grid, (pose.x, pose.y), (self.goal.x, self.goal.y))
+        except PlanningError as exc:
+            self._plan_failures += 1
+            log.info("planning failed (%d/%d): %s", self._plan_failures, self.config.navigator.max_plan_failures, exc)
+            if self._plan_failures >= self.config.navigator.max_plan_failures:
+                self._finish(State.FAILED, f"no path: {exc}", now)
+            elif self.path is None:
+                self.io.publish(ZERO_TWIST, now)  # nothing to follow yet: hold still
+            return False
+        self._plan_failures = 0
+        self._replans += 1
+        return True
+
+    def _follow(self, pose: Pose2D, now: float, dt: float) -> None:
+        from nav.mppi.optimizer import NoValidControl
+
+        odom_from_map = inverse(self.localisation.map_to_odom())
+        path = transform_path(odom_from_map, self._pruned_path(pose))
+        goal = compose(odom_from_map, self.goal)
+        odom = self.io.odom_pose()
+        tw = self.io.odom_twist()
+        try:
+            vx, vy, wz = self.controller.compute((odom.x, odom.y, odom.yaw), (tw.vx, tw.vy, tw.wz), path,
+                                                 (goal.x, goal.y, goal.yaw), self.local_costmap.grid)
+        except NoValidControl as exc:
+            self._start_recovery(now, str(exc))
+            return
+        self.io.publish(self.smoother.smooth(Twist(vx, vy, wz), dt), now)
+
+    def _pruned_path(self, pose: Pose2D) -> np.ndarray:
+        """The plan from the point nearest the robot on, with headings: the tangent along the
+        way and the goal's yaw at the end (Nav2 hands MPPI the plan pruned the same way)."""
+        xy = self.path
+        start = int(np.argmin(np.hypot(xy[:, 0] - pose.x, xy[:, 1] - pose.y)))
+        xy = xy[start:]
+        if len(xy) < 2:
+            xy = np.vstack([[pose.x, pose.y], [self.goal.x, self.goal.y]])
+        d = np.diff(xy, axis=0)
+        yaw = np.empty(len(xy))
+        yaw[:-1] = np.arctan2(d[:, 1], d[:, 0])
+        yaw[-1] = self.goal.yaw
+        return np.column_stack([xy, yaw])
+
+    def _path_blocked(self) -> bool:
+        """Does the plan cross a lethal or inscribed cell the local costmap sees now?"""
+        grid = self.local_costmap.grid
+        odom_from_map = inverse(self.localisation.map_to_odom())
+        pts = transform_path(odom_from_map, np.column_stack([self.path, np.zeros(len(self.path))]))
+        cost = grid.cost_at(pts[:, 0], pts[:, 1], outside=0)
+        return bool(np.any((cost >= INSCRIBED) & (cost != UNKNOWN)))
+
+    def _start_recovery(self, now: float, why: str) -> None:
+        if self._recoveries >= self.config.navigator.max_recoveries:
+            self._finish(State.FAILED, f"no valid control after {self._recoveries} recoveries ({why})", now)
+            return
+        self._recoveries += 1
+        log.info("recovery %d: %s; clearing the local costmap and backing off", self._recoveries, why)
+        self._backoff = self._backoff_twist()
+        self.local_costmap.clear()
+        self.smoother.reset()
+        self._backoff_until = now + self.config.navigator.backoff_time
+        self.state = State.RECOVERING
+        self.io.publish(ZERO_TWIST, now)
+
+    def _recover(self, now: float, dt: float) -> None:
+        if now < self._backoff_until:
+            self.io.publish(self.smoother.smooth(self._backoff, dt), now)
+            return
+        self.controller.reset()
+        self.smoother.reset()
+        self.state = State.FOLLOWING
+        self.io.publish(ZERO_TWIST, now)
+
+    def _backoff_twist(self) -> Twist:
+        """Body-frame velocity away from the nearest obstacle cells in the local costmap (the
+        base is holonomic, so 'back off' means away from what is closest, not just reverse)."""
+        grid = self.local_costmap.grid
+        odom = self.io.odom_pose()
+        iy, ix = np.nonzero((grid.data >= INSCRIBED) & (grid.data != UNKNOWN))
+        speed = self.config.navigator.backoff_speed
+        if len(ix) == 0:
+            return Twist(-speed, 0.0, 0.0)
+        wx, wy = grid.cell_to_world(ix, iy)
+        d = np.hypot(wx - odom.x, wy - odom.y)
+        near = d <= d.min() + 0.15
+        away = np.array([odom.x - wx[near].mean(), odom.y - wy[near].mean()])
+        n = float(np.hypot(*away))
+        if n < 1e-6:
+            return Twist(-speed, 0.0, 0.0)
+        c, s = math.cos(odom.yaw), math.sin(odom.yaw)
+        bx, by = c * away[0] + s * away[1], -s * away[0] + c * away[1]
+        return Twist(speed * bx / n, speed * by / n, 0.0)
+
+    def _remaining(self) -> float:
+        if self.goal is None:
+            return 0.0
+        pose = self.map_pose()
+        if self.path is None or len(self.path) < 2:
+            return distance(pose, self.goal)
+        xy = self.path
+        start = int(np.argmin(np.hypot(xy[:, 0] - pose.x, xy[:, 1] - pose.y)))
+        return float(np.hypot(*np.diff(xy[start:], axis=0).T).sum()) + math.hypot(xy[start, 0] - pose.x, xy[start, 1] - pose.y)
+
+    def _finish(self, state: State, reason: str, now: float) -> None:
+        self.state, self.reason = state, reason
+        self.smoother.reset()
+        self.io.publish(ZERO_TWIST, now)
+        log.info("navigation %s%s after %.1f s", state.value, f" ({reason})" if reason else "", now - self._start)
