@@ -58,6 +58,10 @@ class State(str, Enum):
 
 TERMINAL = (State.SUCCEEDED, State.FAILED, State.CANCELED)
 
+#: Least time between two replans triggered by a blocked path (the 1 Hz replan still runs): a
+#: plan the local costmap disagrees with is redone at once, but not on every 50 ms control tick.
+BLOCKED_REPLAN_GAP = 0.5
+
 
 class Costmap(Protocol):
     grid: CostGrid
@@ -122,7 +126,7 @@ class Navigator:
         self.goal: Pose2D | None = None
         self.path: np.ndarray | None = None
         """The current global plan, (N, 2) map-frame points."""
-        self._start = self._deadline = self._last_control = 0.0
+        self._start = self._deadline = self._last_control = self._last_plan = 0.0
         self._recoveries = self._replans = self._plan_failures = 0
         self._backoff_until = 0.0
         self._backoff = ZERO_TWIST
@@ -185,7 +189,7 @@ class Navigator:
         if self.state is State.RECOVERING:
             self._recover(now, dt)
             return
-        if self.path is None or self._path_blocked():
+        if self.path is None or (now - self._last_plan >= BLOCKED_REPLAN_GAP and self._path_blocked()):
             self._update(self.global_costmap, pose)
             if not self._replan(now):
                 return
@@ -216,6 +220,7 @@ class Navigator:
             return False
         self._plan_failures = 0
         self._replans += 1
+        self._last_plan = now
         return True
 
     def _follow(self, pose: Pose2D, now: float, dt: float) -> None:
