@@ -130,6 +130,9 @@ class ServoBusConfig(Strict):
     """Hiwonder position: 0..1000 counts over 240 deg, i.e. 24 centidegrees per count."""
 
 
+from hw.devices_config import DevicesConfig  # noqa: E402  (after Strict: it builds on it)
+
+
 class HwConfig(Strict):
     """Hardware services: the same in sim and on the robot."""
 
@@ -143,6 +146,9 @@ class HwConfig(Strict):
     """The status LED strip and its wire colour order."""
     servos: ServoBusConfig = ServoBusConfig()
     """The Hiwonder servo bus: ids and vendor raw ranges."""
+    devices: DevicesConfig = DevicesConfig()
+    """The real devices for the hardware backend and ``lupin hw``: every address, channel,
+    bus, port, baud rate and scale (hardware reference; unused by the sim)."""
     controllers: tuple[str, ...] = (
         "joint_state_broadcaster",
         "pid_wheels_controller",
