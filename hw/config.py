@@ -130,9 +130,6 @@ class ServoBusConfig(Strict):
     """Hiwonder position: 0..1000 counts over 240 deg, i.e. 24 centidegrees per count."""
 
 
-from hw.devices_config import DevicesConfig  # noqa: E402  (after Strict: it builds on it)
-
-
 class HwConfig(Strict):
     """Hardware services: the same in sim and on the robot."""
 
@@ -146,7 +143,7 @@ class HwConfig(Strict):
     """The status LED strip and its wire colour order."""
     servos: ServoBusConfig = ServoBusConfig()
     """The Hiwonder servo bus: ids and vendor raw ranges."""
-    devices: DevicesConfig = DevicesConfig()
+    devices: devices_config.DevicesConfig = Field(default_factory=lambda: devices_config.DevicesConfig())
     """The real devices for the hardware backend and ``lupin hw``: every address, channel,
     bus, port, baud rate and scale (hardware reference; unused by the sim)."""
     controllers: tuple[str, ...] = (
@@ -157,3 +154,7 @@ class HwConfig(Strict):
         "mirte_base_controller",
     )
     """The five controllers the boot heal brings to active (seed: auto_home.py)."""
+
+
+# Last: devices_config builds its sections on Strict, so it may be imported first or second.
+from hw import devices_config  # noqa: E402
