@@ -127,6 +127,8 @@ class LidarPortConfig(Strict):
     spinup_s: float = Field(3.0, gt=0)
     """How long to wait for the first scan bytes after SCAN (reference: ~2 s of silence while
     the C1's motor spins up, unverified)."""
+    stale_s: float = Field(0.5, gt=0)
+    """A scan older than this is a dropout (5 revolutions at the C1's ~10 Hz)."""
     range_min: float = 0.05
     """Shortest valid return, m (reference: C1 range 0.05-12 m)."""
     range_max: float = 12.0
