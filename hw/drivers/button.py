@@ -31,5 +31,12 @@ class GpioButton:
             raise DeviceError(f"e-stop GPIO line {self.line}: {exc.strerror or exc}") from None
         return self.engaged_level if latched else now
 
+    def peek(self) -> int:
+        """The pin's level now, leaving the edge events (and the latch) to ``read_level``."""
+        try:
+            return level(self.request.get_value(self.line))
+        except OSError as exc:
+            raise DeviceError(f"e-stop GPIO line {self.line}: {exc.strerror or exc}") from None
+
     def close(self) -> None:
         self.request.release()
