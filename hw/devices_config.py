@@ -100,7 +100,8 @@ class EStopGpioConfig(Strict):
     line: int = Field(8, ge=0)
     """Line offset of the e-stop button. UNVERIFIED (polarity too: hw.estop.engaged_level)."""
     pull_up: bool = True
-    """Bias the line up (a switch to ground reads 0 when closed)."""
+    """Bias the line up. With the default engaged_level 1 that suits a normally-closed e-stop
+    switch to ground: 0 while released, 1 when pressed *or when the wire breaks* (fail-safe)."""
 
 
 class ServoPortConfig(Strict):
