@@ -21,6 +21,7 @@ except ImportError:  # pragma: no cover
 from hw.errors import InputError
 from hw.interfaces import DeviceError
 from mission import bench as bench_mod
+from mission.hw_commands import hw_app
 from mission.sim_commands import run_config, sim_app
 
 app = typer.Typer(
@@ -32,6 +33,7 @@ app = typer.Typer(
     rich_markup_mode=None,
 )
 app.add_typer(sim_app, name="sim")
+app.add_typer(hw_app, name="hw")
 
 
 @app.callback()

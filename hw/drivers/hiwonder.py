@@ -15,6 +15,7 @@ Units are the device's: positions 0..1000 counts (0.24 deg each), times in ms (0
 """
 from __future__ import annotations
 
+import os
 import threading
 import time
 
@@ -29,7 +30,8 @@ def open_serial(path: str, baud: int, what: str, timeout: float = 0.05):
     try:
         return serial.Serial(path, baud, timeout=timeout, write_timeout=1.0)
     except (serial.SerialException, OSError, ValueError) as exc:
-        reason = getattr(exc, "strerror", None) or str(exc).split(":")[-1].strip() or type(exc).__name__
+        errno = getattr(exc, "errno", None)
+        reason = os.strerror(errno) if isinstance(errno, int) else (str(exc) or type(exc).__name__)
         raise InputError(f"{what} port {path}: cannot open ({reason})") from None
 
 
