@@ -55,6 +55,20 @@ class TagReader:
         self._object = _object_points(c.tag_size)
         self._k = c.camera.matrix()
         self._dist = c.camera.dist_coeffs()
+        self._size = (c.camera.width, c.camera.height)
+
+    def camera_matrix(self, width: int, height: int) -> np.ndarray:
+        """K for a frame of this size: the configured camera's, scaled when the frame is a
+        resized copy (a saved thumbnail, a photo) of a different size than configured."""
+        if (width, height) == self._size:
+            return self._k
+        k = self._k.copy()
+        sx, sy = width / self._size[0], height / self._size[1]
+        k[0, 0] *= sx
+        k[1, 1] *= sy
+        k[0, 2] = (k[0, 2] + 0.5) * sx - 0.5
+        k[1, 2] = (k[1, 2] + 0.5) * sy - 0.5
+        return k
 
     def read(self, frame: object) -> tuple[TagRead, ...]:
         """Whitelisted tags in a frame, nearest first; nothing for an unusable frame."""
@@ -62,7 +76,8 @@ class TagReader:
         if gray is None:
             return ()
         corners, ids = self._decode(gray)
-        reads = [self._pose(int(i), c.reshape(4, 2)) for c, i in zip(corners, ids)
+        k = self.camera_matrix(gray.shape[1], gray.shape[0])
+        reads = [self._pose(int(i), c.reshape(4, 2), k) for c, i in zip(corners, ids)
                  if int(i) in self._whitelist]
         return tuple(sorted((r for r in reads if r is not None), key=lambda r: r.distance))
 
@@ -74,11 +89,11 @@ class TagReader:
             return (), ()
         return corners, ids.ravel()
 
-    def _pose(self, tag_id: int, corners: np.ndarray) -> TagRead | None:
+    def _pose(self, tag_id: int, corners: np.ndarray, k: np.ndarray) -> TagRead | None:
         image = corners.astype(np.float64)
         try:
             n, rvecs, tvecs, errors = cv2.solvePnPGeneric(
-                self._object, image, self._k, self._dist, flags=cv2.SOLVEPNP_SQPNP)
+                self._object, image, k, self._dist, flags=cv2.SOLVEPNP_SQPNP)
         except cv2.error:
             return None
         if n == 0:
