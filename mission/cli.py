@@ -21,6 +21,7 @@ except ImportError:  # pragma: no cover
 from hw.errors import InputError
 from hw.interfaces import DeviceError
 from mission import bench as bench_mod
+from mission.detect_command import detect
 from mission.hw_commands import hw_app
 from mission.sim_commands import run_config, sim_app
 
@@ -34,6 +35,7 @@ app = typer.Typer(
 )
 app.add_typer(sim_app, name="sim")
 app.add_typer(hw_app, name="hw")
+app.command("detect")(detect)
 
 
 @app.callback()
