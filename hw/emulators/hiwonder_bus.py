@@ -8,8 +8,9 @@ error flags. Faults from the seed: ``unload`` (stall: torque off, the joint sags
 stalled-rotor flag) and ``latch`` (commands ignored while the position still reads).
 
 ``BusFaults`` injects line trouble into the replies: ``bad_checksum`` / ``drop`` / ``extra``
-(counts of replies to spoil), ``echo`` (the adapter echoes every byte it sends, as some
-one-wire adapters do), ``silent`` (nobody answers). ``frames`` records every valid request.
+(counts of replies to spoil), ``garbage`` (bytes sent once before the next reply), ``echo``
+(the adapter echoes every byte it sends, as some one-wire adapters do), ``silent`` (nobody
+answers). ``frames`` records every valid request.
 """
 from __future__ import annotations
 
@@ -93,6 +94,8 @@ class BusFaults:
     extra: int = 0
     echo: bool = False
     silent: bool = False
+    garbage: bytes = b""
+    """Sent once, right before the next reply (line noise, a stray frame)."""
 
 
 class HiwonderBusEmulator(PtyDevice):
@@ -128,6 +131,8 @@ class HiwonderBusEmulator(PtyDevice):
         if f.extra:
             f.extra -= 1
             reply = b"\x55\x00\xAA" + reply
+        if f.garbage:
+            reply, f.garbage = f.garbage + reply, b""
         if self.baud:
             time.sleep(self.wire_time(request_len + len(reply)))
         self.send(reply)
