@@ -124,16 +124,23 @@ def render_shots(config: LupinConfig, count: int, seed: int) -> Iterator[Shot]:
             sim.close()
 
 
-def _shot(sim: SimRobot, seg: mujoco.Renderer, jitter: LightingJitter, pot, rng, config) -> Shot:
-    fwd, left, dyaw = noise = approach_noise(rng)
+def approach_pose(pot, noise: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> tuple[float, float, float]:
+    """World pose of the robot at ``pot``'s approach pose (spec/mission.md) plus
+    ``noise`` = (forward, left, yaw) in the robot's frame."""
+    fwd, left, dyaw = noise
     heading = pot.facing + math.pi
     x = pot.x + STANDOFF * math.cos(pot.facing) + fwd * math.cos(heading) - left * math.sin(heading)
     y = pot.y + STANDOFF * math.sin(pot.facing) + fwd * math.sin(heading) + left * math.cos(heading)
-    sim.place(x, y, heading + dyaw)
+    return x, y, heading + dyaw
+
+
+def _shot(sim: SimRobot, seg: mujoco.Renderer, jitter: LightingJitter, pot, rng, config) -> Shot:
+    noise = approach_noise(rng)
+    sim.place(*approach_pose(pot, noise))
     lighting = jitter.apply(rng)
     wrist, front = sim.hal.cameras["wrist"].capture(), sim.hal.cameras["front"].capture()
-    flower_truth, count_truth, bug_truth = _flower_truth(sim, seg, pot)
-    rot, pos, in_view = _tag_truth(sim, pot, config)
+    flower_truth, count_truth, bug_truth = flower_truth_of(sim, seg, pot)
+    rot, pos, in_view = tag_truth(sim, pot, config)
     return Shot(pot.id, pot.flower, pot.bug, pot.blooms, pot.tag, noise, lighting, wrist, front,
                 flower_truth, count_truth, bug_truth, in_view, rot, pos)
 
@@ -142,7 +149,9 @@ def _geom(sim: SimRobot, name: str) -> int:
     return mujoco.mj_name2id(sim.engine.model, mujoco.mjtObj.mjOBJ_GEOM, name)
 
 
-def _flower_truth(sim: SimRobot, seg: mujoco.Renderer, pot) -> tuple[Optional[str], Optional[int], Optional[bool]]:
+def flower_truth_of(sim: SimRobot, seg: mujoco.Renderer, pot) -> tuple[Optional[str], Optional[int], Optional[bool]]:
+    """(class, bloom count, pest) the wrist camera can see of ``pot`` now, None where marginal;
+    ``seg`` is a segmentation renderer of the sim's model."""
     seg.update_scene(sim.engine.data, camera="wrist_camera")
     ids = seg.render()
     geoms = ids[..., 0][ids[..., 1] == int(mujoco.mjtObj.mjOBJ_GEOM)]
@@ -161,7 +170,7 @@ def _flower_truth(sim: SimRobot, seg: mujoco.Renderer, pot) -> tuple[Optional[st
     return flower, count, bug
 
 
-def _tag_truth(sim: SimRobot, pot, config: LupinConfig) -> tuple[np.ndarray, np.ndarray, bool]:
+def tag_truth(sim: SimRobot, pot, config: LupinConfig) -> tuple[np.ndarray, np.ndarray, bool]:
     """The tag's rotation and centre in the front camera (OpenCV axes), and whether all four
     corners are inside the frame. The tag is printed on the front face of geom ``tag_<pot>``:
     seen from the aisle its right is the geom's +y, its up +z, its normal +x."""
