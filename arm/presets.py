@@ -3,8 +3,14 @@
 Joint order everywhere: shoulder_pan, shoulder_lift, elbow, wrist (the gripper is separate).
 ``home`` is the measured minimum-gravity-load rest pose (the auto-home target); ``inspect`` is
 the per-pot patrol stance that pitches the wrist camera down into the pot.
+
+A preset is commanded as *one* trajectory of all four joints (seed: "Lupin commands all four
+arm joints together as a single trajectory"), clamped through ``arm.limits`` and timed so the
+joint with the longest way to go moves at the configured maximum joint speed.
 """
 from __future__ import annotations
+
+from hw.errors import InputError
 
 ARM_JOINTS: tuple[str, ...] = ("shoulder_pan", "shoulder_lift", "elbow", "wrist")
 
@@ -18,9 +24,20 @@ PRESETS: dict[str, tuple[float, float, float, float]] = {
 }
 
 
+class UnknownPreset(InputError):
+    """An arm preset name that does not exist (an operator's or a mission file's typo)."""
+
+
 def preset(name: str) -> dict[str, float]:
-    """Joint name -> angle for a named preset; KeyError lists the valid names."""
+    """Joint name -> angle for a named preset; ``UnknownPreset`` lists the valid names."""
     try:
         return dict(zip(ARM_JOINTS, PRESETS[name]))
     except KeyError:
-        raise KeyError(f"unknown arm preset {name!r}; known: {', '.join(PRESETS)}") from None
+        raise UnknownPreset(f"unknown arm preset {name!r}; known: {', '.join(PRESETS)}") from None
+
+
+def move_duration(start, goal, max_speed: float, min_duration: float) -> float:
+    """Seconds for a move from ``start`` to ``goal`` (joint order) with no joint faster than
+    ``max_speed`` rad/s, and never shorter than ``min_duration``."""
+    span = max((abs(float(g) - float(s)) for s, g in zip(start, goal)), default=0.0)
+    return max(span / max_speed, min_duration)

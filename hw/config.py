@@ -129,6 +129,14 @@ class ServoBusConfig(Strict):
     centideg_per_count: float = 24.0
     """Hiwonder position: 0..1000 counts over 240 deg, i.e. 24 centidegrees per count."""
 
+    def counts_to_rad(self, calib: ServoCalib, counts: float) -> float:
+        """The one counts -> joint radians map: rad = (counts * 24 - home) / 100 * pi / 180."""
+        return math.radians((counts * self.centideg_per_count - calib.home) / 100.0)
+
+    def rad_to_counts(self, calib: ServoCalib, rad: float) -> float:
+        """Joint radians -> (fractional) counts, the inverse of ``counts_to_rad``."""
+        return (math.degrees(rad) * 100.0 + calib.home) / self.centideg_per_count
+
 
 class HwConfig(Strict):
     """Hardware services: the same in sim and on the robot."""

@@ -13,7 +13,6 @@ Faults (seed, "shoulder_lift will trip if held against gravity"):
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Callable
 
@@ -64,10 +63,10 @@ class SimServoBus:
 
     # --- unit conversion ---------------------------------------------------------------
     def counts_to_rad(self, calib: ServoCalib, counts: float) -> float:
-        return math.radians((counts * self.config.centideg_per_count - calib.home) / 100.0)
+        return self.config.counts_to_rad(calib, counts)
 
     def rad_to_counts(self, calib: ServoCalib, rad: float) -> float:
-        return (math.degrees(rad) * 100.0 + calib.home) / self.config.centideg_per_count
+        return self.config.rad_to_counts(calib, rad)
 
     def _servo(self, servo_id: int) -> _Servo:
         try:
