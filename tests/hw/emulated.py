@@ -73,7 +73,7 @@ def emulated_robot(stack: ExitStack, tmp_path, *, servo_ids=(2, 3, 4, 5, 6), lid
     led = tmp_path / "spidev"
     led.write_bytes(b"")
     config = HwConfig.model_validate({"devices": {
-        "servo_bus": {"port": servo_bus.path, "timeout_s": 0.05},
+        "servo_bus": {"port": servo_bus.path, "timeout_s": 0.2},
         "lidar": {"port": lidar.path, "spinup_s": 1.0, "timeout_s": 0.3},
         "cameras": {"front": {"device": video, "width": 160, "height": 120, "fps": 30},
                     "wrist": {"device": video, "width": 80, "height": 60, "fps": 10}},

@@ -11,7 +11,7 @@ from hw.interfaces import DeviceError
 def bus(request):
     with HiwonderBusEmulator() as emu:
         emu.faults.echo = request.param
-        drv = HiwonderBus.open(emu.path, 115200, echo=request.param, timeout_s=0.05, retries=2)
+        drv = HiwonderBus.open(emu.path, 115200, echo=request.param, timeout_s=0.2, retries=2)
         try:
             yield emu, drv
         finally:
@@ -90,7 +90,7 @@ def test_echoed_request_is_never_taken_as_the_reply():
     """Echo on the wire but the driver configured without echo discarding: still correct."""
     with HiwonderBusEmulator() as emu:
         emu.faults.echo = True
-        drv = HiwonderBus.open(emu.path, echo=False, timeout_s=0.05)
+        drv = HiwonderBus.open(emu.path, echo=False, timeout_s=0.1)
         emu.faults.silent = True
         with pytest.raises(DeviceError, match="servo id 2"):
             drv.read_position(2)  # only the echo comes back: a POS_READ with no params
@@ -103,7 +103,7 @@ def test_echoed_request_is_never_taken_as_the_reply():
 @pytest.mark.parametrize("fault", ["bad_checksum", "drop", "extra"])
 def test_garbled_reply_is_retried(fault):
     with HiwonderBusEmulator() as emu:
-        drv = HiwonderBus.open(emu.path, timeout_s=0.05, retries=2)
+        drv = HiwonderBus.open(emu.path, timeout_s=0.2, retries=2)
         emu.servo(6).place(250)
         setattr(emu.faults, fault, 1)
         assert drv.read_position(6) == 250

@@ -13,7 +13,7 @@ from hw.interfaces import DeviceError
 @pytest.fixture(scope="module")
 def servo_rig():
     with HiwonderBusEmulator() as emu:
-        drv = HiwonderBus.open(emu.path, timeout_s=0.03, retries=2)
+        drv = HiwonderBus.open(emu.path, timeout_s=0.1, retries=2)
         yield emu, drv
         drv.close()
 
