@@ -51,8 +51,10 @@ CLEARANCE = 0.35
 VISIBLE_PX = 400
 """A bloom counts as in view with at least this many visible pixels (min blob 150 px, plus
 margin for the morphology); fewer but some pixels is marginal and not scored."""
-PEST_PX = 40
-"""A pest counts as in view with at least this many visible pixels (0: not in view)."""
+PEST_PX = 100
+"""A pest counts as in view with at least this many visible pixels, about a tenth of the
+~900 px it covers from the approach pose; 1..99 px (a sliver at the frame's edge) is marginal
+and not scored, 0 is not in view."""
 EDGE_PX = 3
 """A tag counts as in view when all four corners are this far inside the frame."""
 _CV_FROM_GL = np.diag([1.0, -1.0, -1.0])
@@ -158,8 +160,8 @@ def flower_truth_of(sim: SimRobot, seg: mujoco.Renderer, pot) -> tuple[Optional[
     pixels = np.bincount(geoms.ravel(), minlength=sim.engine.model.ngeom)
     blooms = [pixels[g] for g in (_geom(sim, f"pot_{pot.id}_bloom_{k}") for k in range(3)) if g >= 0]
     pest = _geom(sim, f"pot_{pot.id}_pest")
-    pest_px = pixels[pest] if pest >= 0 else 0
-    visible = sum(b >= VISIBLE_PX for b in blooms)
+    pest_px = int(pixels[pest]) if pest >= 0 else 0
+    visible = int(sum(b >= VISIBLE_PX for b in blooms))
     marginal = any(0 < b < VISIBLE_PX for b in blooms)
     if visible:
         flower = pot.flower
