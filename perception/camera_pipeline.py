@@ -103,3 +103,11 @@ class CameraPipeline:
         """A frame taken at or after ``since`` (e.g. after the arm settled), or None yet."""
         frame = self.request()
         return frame if frame is not None and frame.stamp >= since else None
+
+
+def camera_pipelines(cameras: dict[str, Camera], clock: Clock, config) -> dict[str, CameraPipeline]:
+    """One pipeline per HAL camera that has a rate in ``config`` (a PerceptionConfig): the
+    runtime's single place where cameras get their producer-side caps."""
+    rates = config.rates.model_dump()
+    return {name: CameraPipeline(cam, clock, rates[name], name, config.jpeg_quality)
+            for name, cam in cameras.items() if name in rates}

@@ -130,3 +130,15 @@ def test_garbage_frames_are_not_frames(rig):
 def test_rate_must_be_positive():
     with pytest.raises(ValueError):
         CameraPipeline(CountingCamera(), StepClock(), 0.0)
+
+
+def test_the_runtime_gets_one_pipeline_per_configured_camera():
+    from perception.camera_pipeline import camera_pipelines
+    from perception.config import PerceptionConfig
+
+    config = PerceptionConfig.model_validate({"rates": {"front": 4.0, "wrist": 1.0}, "jpeg_quality": 60})
+    cams = {"front": CountingCamera(), "wrist": CountingCamera(), "depth": CountingCamera()}
+    pipes = camera_pipelines(cams, StepClock(), config)
+    assert set(pipes) == {"front", "wrist"}
+    assert pipes["front"].period == 0.25 and pipes["wrist"].period == 1.0 and pipes["wrist"].quality == 60
+    assert pipes["front"].camera is cams["front"]
