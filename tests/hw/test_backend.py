@@ -2,10 +2,9 @@
 import time
 from contextlib import ExitStack
 
-import numpy as np
 import pytest
 
-from arm.presets import preset
+from arm.presets import ARM_JOINTS
 from hw.backend import HwBackend
 from hw.drivers.hiwonder_protocol import Cmd
 from hw.drivers.led_strip import decode_spi
@@ -26,10 +25,6 @@ def stack():
         yield s
 
 
-def counts(calib, rad: float) -> int:
-    return round((np.degrees(rad) * 100 + calib.home) / 24.0)
-
-
 def test_full_stack_on_emulated_hardware(stack, tmp_path):
     emu = emulated_robot(stack, tmp_path)
     backend = stack.enter_context(HwBackend(emu.config, **emu.boundaries()))
@@ -37,13 +32,8 @@ def test_full_stack_on_emulated_hardware(stack, tmp_path):
     robot = build_robot(LupinConfig(hw=emu.config), hal)
     robot.start()
     robot.scheduler.every("teleop", 10.0, lambda now: robot.mux.publish("manual", Twist(vx=0.2), now))
-
-    # servo presets -> bus packets
-    joints = emu.config.servos.joints
-    target = {j: counts(joints[j], rad) for j, rad in preset("inspect").items()}
-    for joint, c in target.items():
-        hal.servos.move(joints[joint].id, c, 500)
-
+    robot.scheduler.run_for(0.3)  # the arm pins the live pose (every servo at 500 counts)
+    goal = dict(zip(ARM_JOINTS, robot.arm.preset("inspect")))
     robot.scheduler.run_for(1.0)
 
     # drive command -> PWM registers: every wheel forward on its A channel, B at zero
@@ -52,10 +42,13 @@ def test_full_stack_on_emulated_hardware(stack, tmp_path):
     assert all(duties[ch] == 0.0 for ch in REVERSE_B.values()), duties
     assert abs(emu.pwm.frequency() - emu.config.devices.pwm.frequency_hz) < 2
 
-    moves = {f.servo_id: int.from_bytes(f.params[:2], "little") for f in emu.servo_bus.frames
-             if f.cmd == Cmd.MOVE_TIME_WRITE}
-    assert moves == {joints[j].id: c for j, c in target.items()}
-    assert hal.servos.read_position(joints["elbow"].id) == target["elbow"]
+    # servo preset -> bus packets: the trajectory's samples go out, heading for the goal
+    servos = emu.config.servos
+    for joint in ("shoulder_lift", "elbow", "wrist"):
+        target = round(servos.rad_to_counts(servos.joints[joint], goal[joint]))
+        sent = [int.from_bytes(f.params[:2], "little") for f in emu.servo_bus.frames
+                if f.cmd == Cmd.MOVE_TIME_WRITE and f.servo_id == servos.joints[joint].id]
+        assert sent and abs(sent[-1] - target) < abs(500 - target) - 10, (joint, sent, target)
 
     # lidar bytes -> scans: the emulated 4 m x 3 m room
     scan = hal.lidar.latest_scan()
