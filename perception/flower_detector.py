@@ -133,13 +133,19 @@ class FlowerDetector:
         if m <= 1:
             return out
         grown = cv2.dilate(spots, ring)
-        ring = (grown > 0) & (dark == 0)
-        owner, near = grown[ring].astype(np.int64), blooms[ring].astype(np.int64)
-        pairs = np.bincount(owner * n + near, minlength=m * n).reshape(m, n)
-        total = pairs.sum(1)
-        best = pairs[:, 1:].argmax(1) + 1
-        enclosed = pairs[np.arange(m), best] >= c.bug_enclosure * np.maximum(total, 1)
-        big = stats[:, cv2.CC_STAT_AREA] >= min_area
-        hit = np.flatnonzero(enclosed & big & (total > 0) & (np.arange(m) > 0))
-        np.add.at(out, best[hit], stats[hit, cv2.CC_STAT_AREA])
+        band = (grown > 0) & (dark == 0)
+        # (spot, bloom label under its ring) pairs, counted sparsely: a textured photo can have
+        # thousands of spots and blobs, too many for a dense spots x blobs table.
+        keys, counts = np.unique(grown[band].astype(np.int64) * n + blooms[band], return_counts=True)
+        spot, bloom = keys // n, keys % n
+        total = np.bincount(spot, weights=counts, minlength=m)
+        on = bloom > 0
+        spot, bloom, counts = spot[on], bloom[on], counts[on]
+        order = np.lexsort((-counts, spot))  # per spot, the bloom holding most of its ring first
+        spot, bloom, counts = spot[order], bloom[order], counts[order]
+        first = np.r_[True, spot[1:] != spot[:-1]] if spot.size else np.zeros(0, bool)
+        spot, bloom, counts = spot[first], bloom[first], counts[first]
+        area = stats[spot, cv2.CC_STAT_AREA]
+        hit = (counts >= c.bug_enclosure * total[spot]) & (area >= min_area) & (spot > 0)
+        np.add.at(out, bloom[hit], area[hit])
         return out

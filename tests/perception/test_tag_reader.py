@@ -17,7 +17,6 @@ from tests.perception.conftest import POTS
 
 READ = TagReader()
 K = TagConfig().camera.matrix()
-TAG = 0.10
 PLATE = 0.14
 
 
