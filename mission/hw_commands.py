@@ -223,7 +223,8 @@ def _lidar(ctx: typer.Context, port: Optional[str], baud: Optional[int]) -> Rpli
 
 
 @lidar_app.command("info")
-def lidar_info(ctx: typer.Context, port: Optional[str] = PORT, baud: Optional[int] = BAUD, as_json: bool = JSON) -> None:
+def lidar_info(ctx: typer.Context, port: Optional[str] = PORT, baud: Optional[int] = BAUD,
+               as_json: bool = JSON) -> None:
     """Model, firmware, hardware and serial number."""
     lidar = _lidar(ctx, port, baud)
     try:
@@ -235,7 +236,8 @@ def lidar_info(ctx: typer.Context, port: Optional[str] = PORT, baud: Optional[in
 
 
 @lidar_app.command("health")
-def lidar_health(ctx: typer.Context, port: Optional[str] = PORT, baud: Optional[int] = BAUD, as_json: bool = JSON) -> None:
+def lidar_health(ctx: typer.Context, port: Optional[str] = PORT, baud: Optional[int] = BAUD,
+                 as_json: bool = JSON) -> None:
     """Health status (good, warning, error) and error code."""
     lidar = _lidar(ctx, port, baud)
     try:
@@ -268,7 +270,8 @@ def lidar_scan(ctx: typer.Context, port: Optional[str] = PORT, baud: Optional[in
         raise DeviceError(f"RPLidar on {port or _devices(ctx).devices.lidar.port}: no complete revolution")
     points = [int(s.ranges.size) for s in scans]
     r = np.concatenate([s.ranges[np.isfinite(s.ranges)] for s in scans])
-    stats = {k: (round(float(f(r)), 3) if r.size else None) for k, f in (("min", np.min), ("median", np.median), ("max", np.max))}
+    stats = {k: (round(float(f(r)), 3) if r.size else None)
+             for k, f in (("min", np.min), ("median", np.median), ("max", np.max))}
     _emit({"revolutions": len(scans), "points_per_revolution": points, "range_m": stats}, as_json,
           [f"{len(scans)} revolutions, points per revolution {min(points)}..{max(points)}",
            "range min {min} m  median {median} m  max {max} m".format(**stats)])

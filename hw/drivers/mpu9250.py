@@ -48,7 +48,8 @@ class Mpu9250:
             raise InputError(f"MPU9250 IMU at 0x{self.address:02x}: WHO_AM_I 0x{who:02x}, expected one of "
                              + ", ".join(f"0x{w:02x}" for w in self.accepted))
         if who != self.accepted[0]:
-            log.warning("MPU9250 at 0x%02x reports WHO_AM_I 0x%02x (not 0x%02x): accepted", self.address, who, self.accepted[0])
+            log.warning("MPU9250 at 0x%02x reports WHO_AM_I 0x%02x (not 0x%02x): accepted",
+                        self.address, who, self.accepted[0])
         a = self.address
         try:
             self.bus.write_byte_data(a, PWR_MGMT_1, 0x01)

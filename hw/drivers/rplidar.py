@@ -16,7 +16,8 @@ import time
 from typing import Callable
 
 from hw.drivers.hiwonder import open_serial
-from hw.drivers.rplidar_protocol import Descriptor, Info, Req, ScanParser, parse_descriptor, parse_health, parse_info, request
+from hw.drivers.rplidar_protocol import (Descriptor, Info, Req, ScanParser, parse_descriptor, parse_health, parse_info,
+                                         request)
 from hw.interfaces import DeviceError, LidarScan
 
 log = logging.getLogger(__name__)

@@ -165,7 +165,8 @@ class ScanParser:
             return []
         starts = np.concatenate(runs)
         self.nodes += starts.size
-        return self._revolutions(a[starts] & 1, q6[starts], a[starts + 3].astype(np.int32) | a[starts + 4].astype(np.int32) << 8)
+        q2 = a[starts + 3].astype(np.int32) | a[starts + 4].astype(np.int32) << 8
+        return self._revolutions(a[starts] & 1, q6[starts], q2)
 
     def _revolutions(self, s: np.ndarray, q6: np.ndarray, q2: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
         out = []

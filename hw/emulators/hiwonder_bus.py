@@ -4,8 +4,9 @@ Each ``EmuServo`` follows the protocol's semantics: MOVE_TIME_WRITE ramps linear
 it is to the target over the time given (clamped to its angle limits); ANGLE_OFFSET_ADJUST (17)
 shifts commands and reads at once and is volatile, ANGLE_OFFSET_WRITE (18) persists it; offsets
 are signed bytes; POS_READ is a signed 16-bit count; load / unload, voltage, temperature, the
-error flags. Faults from the seed: ``unload`` (stall: torque off, the joint sags under gravity,
-stalled-rotor flag) and ``latch`` (commands ignored while the position still reads).
+error flags. Faults from the seed: ``EmuServo.stall()`` (the trip: torque off, the joint sags
+under gravity, stalled-rotor flag, until a load command) and ``latched = True`` (commands and
+load ignored while the position still reads: only a power cycle would clear it).
 
 ``BusFaults`` injects line trouble into the replies: ``bad_checksum`` / ``drop`` / ``extra``
 (counts of replies to spoil), ``garbage`` (bytes sent once before the next reply), ``echo``
