@@ -24,6 +24,10 @@ class ReassertConfig(Strict):
     moved_deadband: float = Field(0.05, gt=0)
     """SERVO_MOVED_DIFF, rad (seed: 0.05 rad): re-send when the measured position drifted more
     than this since the joint was last sent (gravity sag, a raw write that bypassed us)."""
+    settle_time: float = Field(0.3, ge=0)
+    """After a write's ramp ends the joint is still settling this long, s; until then its
+    anchor follows it, so "since it last moved" means where it came to rest (Lupin's choice:
+    ~3 ticks, the sim servos settle in ~0.2 s)."""
     stuck_after: float = Field(1.0, gt=0)
     """Stuck guard, s (issue 7): a joint still off target this long after its command stopped
     changing is commanded to where it is, once, instead of pushing (the lift's stall trip)."""

@@ -140,7 +140,7 @@ class ArmController:
         if self.fault is not None or self.suspended:
             return
         was_pinned = self.interface.pinned
-        self.interface.read()
+        self.interface.read(now)
         if not self.interface.pinned:
             return
         if not was_pinned:
@@ -150,6 +150,7 @@ class ArmController:
         self._start_pending(now)
         if self.trajectory is not None:
             self._sample(now)
+            self._last_command = now  # idle counts from the end of the last move
         self.gripper.tick(now)
         if not self._watch(now):
             return
@@ -175,6 +176,12 @@ class ArmController:
                 self.interface.set_command(j, float(v))
                 self._settled[j] = now
         if self.trajectory.done(now):
+            # The final point is always sent for a joint that moved more than the command
+            # dead-band, so a slow joint ends on its goal and not on its last sample sent.
+            tr, db = self.trajectory, self.config.reassert.command_deadband
+            for j, a, b in zip(ARM_JOINTS, tr.start, tr.goal):
+                if abs(b - a) > db and self.interface.slots[j].sent != self.interface.command(j):
+                    self.interface.resend(j)
             self.trajectory = None
 
     def _watch(self, now: float) -> bool:
@@ -187,9 +194,10 @@ class ArmController:
             off = abs(s.position - s.command)
             if off <= cfg.moved_deadband:
                 self.stall.settled(j)
-            stuck = (off > cfg.stuck_factor * cfg.moved_deadband and not self._guarded[j]
-                     and now - self._settled[j] >= cfg.stuck_after)
             changed, drifted = self.interface.due(j)
+            quiet = now - max(self._settled[j], s.settle_until) >= cfg.stuck_after  # commanded, sent, ramped
+            stuck = (off > cfg.stuck_factor * cfg.moved_deadband and quiet and not (changed or drifted)
+                     and not self._guarded[j])
             if self.stall.watches(j) and ((drifted and not changed) or stuck):
                 verdict = self.stall.inspect(j, stuck, self._move_start[j])
                 if verdict is Verdict.LATCHED:

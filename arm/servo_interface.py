@@ -5,8 +5,8 @@ Seed ("The dead-band re-assert mechanism", the deepest why on the hardware page)
 dead-bands trips:
 
 - SERVO_COMMAND_DIFF 0.05 rad: the controller's command changed that much since last sent;
-- SERVO_MOVED_DIFF 0.05 rad: the measured position drifted that much since the joint was last
-  sent (its *anchor*).
+- SERVO_MOVED_DIFF 0.05 rad: the measured position drifted that much since the joint last
+  moved (its *anchor*: where it came to rest after its last write).
 
 Three behaviours follow and are kept on purpose: gravity sag past 0.05 rad self-corrects; a
 raw servo write that bypasses the controller is overwritten the next tick (so every consumer
@@ -40,7 +40,13 @@ class JointSlot:
     sent: float | None = None
     """The command last written to the bus."""
     anchor: float | None = None
-    """Measured position when the joint was last written (the moved dead-band's reference)."""
+    """Where the joint came to rest after it was last written (the moved dead-band's
+    reference): it follows the measured position until ``settle_until``, then stays put."""
+    settle_until: float = 0.0
+    """End of the last move's ramp plus the settle time, runtime seconds."""
+    sent_at: float = 0.0
+    """When the joint was last written, runtime seconds."""
+    """End of the last move's ramp plus the settle time, runtime seconds."""
     position: float | None = None
     """Latest measured position, None when the last read failed."""
     force: bool = False
@@ -59,17 +65,21 @@ class ServoInterface:
         self.log = log or logging.getLogger("lupin.arm")
         self.slots = {j: JointSlot(j, servos.joints[j]) for j in joints}
         self.pinned = False
+        self.now = 0.0
         self.writes = 0
         self.read_errors = 0
 
     # --- state ----------------------------------------------------------------------------
-    def read(self) -> bool:
+    def read(self, now: float) -> bool:
         """Read every joint's position; True when all of them answered."""
+        self.now = now
         complete = True
         for s in self.slots.values():
             try:
                 counts = self.bus.read_position(s.calib.id)
                 s.position = self.servos.counts_to_rad(s.calib, counts)
+                if now < s.settle_until:
+                    s.anchor = s.position  # still moving from its last write
             except (DeviceError, ValueError, TypeError) as exc:
                 s.position = None
                 complete = False
@@ -118,7 +128,10 @@ class ServoInterface:
             if not (changed or drifted or (s.force and s.command is not None and s.position is not None)):
                 continue
             counts = int(round(self.servos.rad_to_counts(s.calib, s.command)))
-            ms = int(round(1000 * max(1.0 / self.config.rate, abs(s.command - s.position) / self.max_speed)))
+            # A command step is ramped at the joint speed from the last command (a trajectory
+            # step takes one beat); a re-assert ramps back from where the joint drifted to.
+            step = abs(s.command - (s.sent if s.sent is not None and s.sent != s.command else s.position))
+            ms = int(round(1000 * max(1.0 / self.config.rate, step / self.max_speed)))
             try:
                 self.bus.move(s.calib.id, max(0, min(1000, counts)), ms)
             except DeviceError as exc:
@@ -126,5 +139,7 @@ class ServoInterface:
                 continue
             self.writes += 1
             s.sent, s.anchor, s.force = s.command, s.position, False
+            s.sent_at = self.now
+            s.settle_until = self.now + ms / 1000.0 + self.config.settle_time
             written.append(name)
         return written

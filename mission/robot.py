@@ -8,6 +8,7 @@ task                  rate       why (seed)
 base                  10 Hz      controller_manager update_rate: 10
 estop                 5 Hz       estop_bridge publishes /e_stop_state at 5 Hz
 leds                  5 Hz       status strip follows drive / e-stop activity
+arm                   10 Hz      arm HW interface write loop (dead-band re-assert) at 10 Hz
 ====================  =========  ==============================================
 
 Every velocity source publishes into ``mux``; the base controller reads only the mux, and
@@ -19,6 +20,7 @@ from __future__ import annotations
 import logging
 from dataclasses import dataclass
 
+from arm.controller import ArmController
 from hw.base_controller import BaseController
 from hw.controller_manager import ControllerManager
 from hw.estop import EStopBridge
@@ -43,6 +45,7 @@ class Robot:
     estop: EStopBridge
     base: BaseController
     leds: LedStatus
+    arm: ArmController
 
     def _led_tick(self, now: float) -> None:
         c = self.base.command
@@ -53,6 +56,7 @@ class Robot:
         self.scheduler.every("base", hw.base.control_rate, self.base.tick)
         self.scheduler.every("estop", hw.estop.publish_rate, self.estop.publish)
         self.scheduler.every("leds", LED_RATE, self._led_tick)
+        self.scheduler.every("arm", self.config.arm.reassert.rate, self.arm.tick)
 
 
 def build_robot(config: LupinConfig, hal: Hal, controllers: ControllerManager | None = None) -> Robot:
@@ -63,4 +67,5 @@ def build_robot(config: LupinConfig, hal: Hal, controllers: ControllerManager | 
     estop = EStopBridge(hw.estop, hal.estop_button, log)
     base = BaseController(hw.base, hal.wheels, hal.encoders, mux, estop, controllers)
     leds = LedStatus(hw.leds, hal.leds)
-    return Robot(config, hal, Scheduler(hal.clock), controllers, mux, estop, base, leds)
+    arm = ArmController(config.arm, hw.servos, hal.servos, controllers, log)
+    return Robot(config, hal, Scheduler(hal.clock), controllers, mux, estop, base, leds, arm)
