@@ -1,13 +1,69 @@
 """Configuration of the costmaps (seed: "Costmaps for narrow aisles").
 
 Both costmaps model the robot as a circle of ``robot_radius`` at ``resolution``; the inflation
-is deliberately thin so ~0.8 m plant-row aisles stay drivable.
+is deliberately thin so ~0.8 m plant-row aisles stay drivable. The two maps differ in extent and
+in how far they mark and clear (the seed's "Local vs global obstacle ranges" table): the local
+map only needs the immediate window, the global one clears out to the lidar's full reach but
+marks only to 5 m, because raw 12 m returns make a noisy global map.
 """
 from __future__ import annotations
 
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from hw.config import Strict
+
+
+class LocalCostmapConfig(Strict):
+    """The 3 x 3 m window rolling with the robot, in ``odom`` (obstacle + inflation layers)."""
+
+    size: float = Field(3.0, gt=0)
+    """Width and height of the rolling window, m (seed: a 3x3 m rolling window)."""
+    obstacle_max_range: float = Field(2.5, gt=0)
+    """Returns are marked as obstacles up to this range, m (seed: local obstacle_max_range 2.5)."""
+    raytrace_max_range: float = Field(3.0, gt=0)
+    """Free space is cleared along each beam up to this range, m (seed: local raytrace_max_range 3.0)."""
+    track_unknown_space: bool = False
+    """Unseen cells are free (Nav2's local default: the seed tracks unknown space only globally)."""
+    inf_is_valid: bool = False
+    """Clear along beams with no return out to ``raytrace_max_range`` (Nav2's obstacle-layer
+    ``inf_is_valid``, default false: a missing return may be a dark surface, not free space)."""
+
+
+class GlobalCostmapConfig(Strict):
+    """The fixed global map around the map origin, in ``map`` (static + obstacle + inflation)."""
+
+    size_x: float = Field(24.0, gt=0)
+    """Extent along x, m. The map frame is the robot's start pose, so the map must reach from any
+    start to any goal in the largest greenhouse (the built-in one is 7 x 4 m): +-12 m."""
+    size_y: float = Field(24.0, gt=0)
+    """Extent along y, m (as ``size_x``)."""
+    origin_x: float = -12.0
+    """World x of the map's lower-left corner, m (centred on the map origin)."""
+    origin_y: float = -12.0
+    """World y of the map's lower-left corner, m."""
+    obstacle_max_range: float = Field(5.0, gt=0)
+    """Returns are marked up to this range, m (seed: global obstacle_max_range 5.0, which covers
+    across-room geometry without the long-tail noise of raw 12 m returns)."""
+    raytrace_max_range: float = Field(12.0, gt=0)
+    """Free space is cleared up to this range, m (seed: global raytrace_max_range 12.0, the
+    lidar's full reach)."""
+    track_unknown_space: bool = True
+    """Unseen cells stay unknown (255) until observed (seed: the global costmap tracks unknown
+    space), so the planner can tell explored from unexplored ground."""
+    inf_is_valid: bool = False
+    """As the local map's ``inf_is_valid``."""
+    occupied_thresh: float = Field(0.65, gt=0, le=1)
+    """Static map cells with occupancy >= this are lethal (seed's map: occupied_thresh 0.65,
+    map_server trinary mode)."""
+    free_thresh: float = Field(0.25, ge=0, lt=1)
+    """Static map cells with occupancy <= this are free; in between is unknown (seed's map:
+    free_thresh 0.25)."""
+
+    @model_validator(mode="after")
+    def _thresholds_ordered(self) -> "GlobalCostmapConfig":
+        if self.free_thresh >= self.occupied_thresh:
+            raise ValueError(f"free_thresh {self.free_thresh} must be below occupied_thresh {self.occupied_thresh}")
+        return self
 
 
 class CostmapsConfig(Strict):
@@ -26,3 +82,7 @@ class CostmapsConfig(Strict):
     obstacle_min_range: float = Field(0.25, ge=0)
     """Lidar returns closer than this are dropped, m (seed: 0.25 in both costmaps, AMCL and SLAM:
     the lidar sees the robot's own arm at ~0.10 m)."""
+    local_costmap: LocalCostmapConfig = LocalCostmapConfig()
+    """The rolling local window MPPI scores against (seed: local costmap)."""
+    global_costmap: GlobalCostmapConfig = GlobalCostmapConfig()
+    """The global map NavFn plans on (seed: global costmap)."""

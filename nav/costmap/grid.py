@@ -59,3 +59,18 @@ class CostGrid:
         out = np.full(ix.shape, outside, dtype=np.uint8)
         out[ok] = self.data[iy[ok], ix[ok]]
         return out
+
+    def copy(self) -> "CostGrid":
+        return CostGrid(self.data.copy(), self.resolution, self.origin_x, self.origin_y)
+
+    def shifted(self, dx_cells: int, dy_cells: int, fill: int) -> "CostGrid":
+        """The same extent moved by whole cells (a rolling window following the robot): the
+        overlap keeps its values, newly exposed cells get ``fill`` (Nav2's updateOrigin)."""
+        h, w = self.data.shape
+        out = np.full_like(self.data, fill)
+        sx0, sx1 = max(dx_cells, 0), min(w + dx_cells, w)  # source columns still inside
+        sy0, sy1 = max(dy_cells, 0), min(h + dy_cells, h)
+        if sx0 < sx1 and sy0 < sy1:
+            out[sy0 - dy_cells:sy1 - dy_cells, sx0 - dx_cells:sx1 - dx_cells] = self.data[sy0:sy1, sx0:sx1]
+        return CostGrid(out, self.resolution, self.origin_x + dx_cells * self.resolution,
+                        self.origin_y + dy_cells * self.resolution)
