@@ -34,6 +34,7 @@ def test_flower_figures(evaluation):
 def test_tag_figures(evaluation):
     t = evaluation.tag
     assert t["scored"] >= 5 and t["accuracy"] == 1.0
+    assert t["near_misreads"] == 0  # tags out of view are not replaced by a wrong near read
     assert t["position_error_m"][2] < 0.02 and t["rotation_error_deg"][2] < 3.0
 
 
