@@ -67,11 +67,14 @@ class FlowerConfig(Strict):
     """Area at which a pure blob reaches confidence 1 (upstream: confidence = area / 2000,
     capped); ours multiplies by the blob's class purity."""
     min_bug_area_px: int = Field(20, ge=1)
-    """Smallest dark spot that counts as a pest, px. The sim's pest at ``inspect`` covers
-    ~900 px; 20 px keeps a small pest on a far bloom while ignoring speckle (tuned on renders)."""
+    """Smallest dark spot that counts as a pest, px (640-wide frame). The sim's pest at
+    ``inspect`` covers ~900 px; 20 px keeps a pest on a far or half-hidden bloom and drops
+    speckle. A choice, not a tuned value: on the ``perception.flower`` set pest recall is 100 %
+    with no false pest, so there was nothing to tune against."""
     bug_enclosure: float = Field(0.5, ge=0, le=1)
     """Fraction of the ring just outside a dark spot that must be bloom for the spot to be a
-    pest *on* that bloom. Dark soil, shadow or a plate's ink next to a bloom stays below it."""
+    pest *on* that bloom. A spot inside a bloom scores ~1, one on its rim ~0.5, dark soil,
+    shadow or a plate's ink beside a bloom ~0 (tests/perception/test_flower_detector.py)."""
     bug_ring_px: int = Field(4, ge=1, le=31)
     """Width of that ring, px."""
 
