@@ -22,6 +22,7 @@ from hw.errors import InputError
 from hw.interfaces import DeviceError
 from mission import bench as bench_mod
 from mission.detect_command import detect
+from mission.heal_command import heal
 from mission.hw_commands import hw_app
 from mission.sim_commands import run_config, sim_app
 
@@ -36,6 +37,7 @@ app = typer.Typer(
 app.add_typer(sim_app, name="sim")
 app.add_typer(hw_app, name="hw")
 app.command("detect")(detect)
+app.command("heal")(heal)
 
 
 @app.callback()
