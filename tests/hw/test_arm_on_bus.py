@@ -85,12 +85,13 @@ def test_unloaded_shoulder_lift_is_reloaded_and_recommanded(rig):
     assert rig.arm.available
 
 
-@pytest.mark.slow
 def test_latched_shoulder_lift_takes_the_arm_out_of_use(rig):
     rig.run(0.25)
     rig.emu.servo(IDS["shoulder_lift"]).latched = True
-    rig.arm.preset("tuck")  # shoulder_lift to -1.40 rad: far away, and the servo ignores it
-    end = time.monotonic() + 4.0
+    goal = rig.arm.joint_vector()
+    goal[1] -= 0.3  # shoulder_lift 0.3 rad down (0.5 s at 0.6 rad/s): far, and the servo ignores it
+    rig.arm.move_to(goal)
+    end = time.monotonic() + 6.0  # trajectory 0.5 s + the 1 s stuck delay, with room for a busy CI
     while time.monotonic() < end and rig.arm.available:
         rig.run(0.1)
     assert not rig.arm.available
