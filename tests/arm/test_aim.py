@@ -1,0 +1,72 @@
+"""Camera aiming with casadi: within the windows, on target (checked in MuJoCo), honest failures."""
+import numpy as np
+import pytest
+
+from arm import limits
+from arm.aim import CameraAim
+from arm.config import ArmConfig
+from arm.kinematics import camera_ray
+from arm.presets import PRESETS
+from tests.arm.test_kinematics import MujocoCamera
+
+CONFIG = ArmConfig()
+
+
+def reachable_targets(n: int, seed: int = 3) -> list[np.ndarray]:
+    """Targets spread over the reachable set: a random pose in the windows that looks down far
+    enough, and a point on its optical axis at a random range inside the allowed band."""
+    rng = np.random.default_rng(seed)
+    ik = CONFIG.ik
+    out = []
+    while len(out) < n:
+        q = rng.uniform(limits.LOWER, limits.UPPER)
+        p, d = camera_ray(q, CONFIG.kinematics)
+        if d[2] > -np.sin(ik.min_look_down) - 0.02:
+            continue
+        out.append(p + rng.uniform(ik.min_range + 0.02, ik.max_range - 0.02) * d)
+    return out
+
+
+@pytest.fixture(scope="module")
+def aim():
+    return CameraAim(CONFIG.kinematics, CONFIG.ik)
+
+
+def test_reachable_targets_are_hit_within_2cm_and_inside_the_windows(aim):
+    mj = MujocoCamera()
+    targets = reachable_targets(40)
+    solved = 0
+    for t in targets:
+        r = aim.aim(t)
+        assert r.ok, (t, r.reason)
+        assert limits.within(r.q)
+        p, d = mj.ray(r.q)  # judged by MuJoCo's camera, not by our own kinematics
+        v = t - p
+        along = v @ d
+        assert along > 0
+        assert np.linalg.norm(v - along * d) < 0.02
+        assert d[2] <= -np.sin(CONFIG.ik.min_look_down) + 1e-6  # from above
+        solved += 1
+    assert solved == len(targets)
+
+
+def test_a_bloom_near_the_inspect_view_stays_near_inspect(aim):
+    p, d = camera_ray(PRESETS["inspect"], CONFIG.kinematics)
+    on_axis = p + 0.25 * d
+    r = aim.aim(on_axis)
+    assert r.ok and np.allclose(r.q, PRESETS["inspect"], atol=1e-3)
+    r = aim.aim(on_axis + [0.0, 0.06, -0.03])  # off to the left and lower
+    assert r.ok and r.q[0] > 0.05 and np.abs(r.q - PRESETS["inspect"]).max() < 0.4
+
+
+@pytest.mark.parametrize("target, why", [
+    ((2.0, 0.0, 0.2), "misses"),  # 2 m away
+    ((0.3, 0.0, 1.0), "unreachable"),  # above the camera: cannot be seen from above
+    ((-0.5, 0.0, 0.2), "unreachable"),  # behind the robot, over the deck
+    ((0.06 + 0.4 * np.cos(np.radians(-88)), 0.4 * np.sin(np.radians(-88)), 0.2), "shoulder_pan window"),
+    # bearing -88 deg: outside [-86, 90], and +92 deg (leaning back over the axis) is too
+    ((0.3, np.nan, 0.2), "finite"),
+])
+def test_unreachable_targets_are_reported_not_clipped(aim, target, why):
+    r = aim.aim(target)
+    assert not r.ok and r.q is None and why in r.reason
