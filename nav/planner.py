@@ -197,12 +197,15 @@ def descend(pot, cost, nx, x, y, sx, sy):
     start (sx, sy) in half-cell steps; returns the visited points, goal first. Where any of the
     eight cells around is unreached (next to an obstacle) or the walk oscillates, it steps to the
     lowest neighbour instead, as NavFn does."""
-    ns = pot.size
-    limit = 4 * ns
-    out = np.empty((limit + 2, 2), dtype=np.float64)
+    limit = 4 * pot.size
+    out = np.empty((4096, 2), dtype=np.float64)
     out[0, 0], out[0, 1] = x, y
     k = 1
     for _ in range(limit):
+        if k + 2 > out.shape[0]:
+            grown = np.empty((2 * out.shape[0], 2), dtype=np.float64)
+            grown[:k] = out[:k]
+            out = grown
         if abs(x - sx) <= 1.0 and abs(y - sy) <= 1.0:
             out[k, 0], out[k, 1] = sx, sy
             return out[:k + 1]

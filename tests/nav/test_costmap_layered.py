@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from hw.interfaces import LidarScan
 from nav.costmap.config import CostmapsConfig
 from nav.costmap.deltas import TILE, apply_changes
 from nav.costmap.grid import FREE, INSCRIBED, LETHAL, UNKNOWN
@@ -57,7 +58,7 @@ def test_the_rolling_window_keeps_what_it_saw_in_world_coordinates():
     local = local_costmap(CFG)
     local.update(scan_at(1.0, 0.5), (1.0, 0.5, 0.0), (1.0, 0.5))
     seen = local.grid.cost_at(2.0, 0.92)[()]
-    empty = type(scan_at(0, 0))(0.0, np.zeros(0, np.float32), np.zeros(0, np.float32))
+    empty = LidarScan(0.0, np.zeros(0, np.float32), np.zeros(0, np.float32))
     local.update(empty, (1.6, 0.5, 0.0), (1.6, 0.5))  # moved 0.6 m east, saw nothing new
     g = local.grid
     assert g.origin_x == pytest.approx(0.1)

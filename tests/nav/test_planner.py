@@ -6,6 +6,7 @@ import pytest
 
 from nav.config import PlannerConfig
 from nav.costmap.grid import FREE, INSCRIBED, LETHAL, UNKNOWN, CostGrid
+from nav.costmap.inflation import InflationLayer
 from nav.planner import NavfnPlanner, PlanningError, crossing_costs
 from tests.nav.builders import draw_disc, dummy_costmap, greenhouse_grid
 
@@ -46,7 +47,6 @@ def test_the_path_goes_through_the_gap_and_keeps_off_the_halo():
     grid = dummy_costmap(100, 100)
     grid.data[48:52, :] = LETHAL
     grid.data[48:52, 70:80] = FREE  # a 0.5 m gap at x 3.5..4.0
-    from nav.costmap.inflation import InflationLayer
     grid.data[:] = InflationLayer(0.05, 0.22, 0.25, 5.0).apply(grid.data)
     start, goal = (1.0, 1.0), (1.0, 4.0)
     path = planner().plan(grid, start, goal)
@@ -139,3 +139,15 @@ def test_greenhouse_aisle_to_aisle_between_the_pots_and_deterministic():
     assert np.all(grid.cost_at(a[:, 0], a[:, 1]) == FREE)  # on the free spine of each gap
     assert np.array_equal(a, planner().plan(grid, start, goal))
     assert np.array_equal(planner().plan(grid, start, start)[-1], start)
+
+
+def test_a_long_serpentine_path_is_followed_to_the_end():
+    grid = dummy_costmap(200, 200)
+    for i, y in enumerate(range(6, 200, 6)):  # 33 walls, the gap at alternating ends
+        grid.data[y, :] = LETHAL
+        gap = slice(194, 200) if i % 2 == 0 else slice(0, 6)
+        grid.data[y, gap] = FREE
+    start, goal = (0.1, 0.1), (0.1, 9.7)
+    path = planner().plan(grid, start, goal)
+    check_path(grid, path, start, goal)
+    assert np.hypot(*np.diff(path, axis=0).T).sum() > 300.0  # > 6000 cells: the descent's buffer grew
