@@ -28,6 +28,9 @@ from arm.config import ReassertConfig
 from hw.config import ServoBusConfig, ServoCalib
 from hw.interfaces import DeviceError, ServoBus
 
+#: Reads outside this are garbage, not a pose (0..1000 over 240 deg; POS_READ may dip negative).
+PLAUSIBLE = (-250, 1250)
+
 
 @dataclass
 class JointSlot:
@@ -77,6 +80,8 @@ class ServoInterface:
         for s in self.slots.values():
             try:
                 counts = self.bus.read_position(s.calib.id)
+                if not PLAUSIBLE[0] <= counts <= PLAUSIBLE[1]:
+                    raise ValueError(f"implausible position {counts!r} counts")
                 s.position = self.servos.counts_to_rad(s.calib, counts)
                 if now < s.settle_until:
                     s.anchor = s.position  # still moving from its last write

@@ -158,3 +158,23 @@ def test_idle_timeout_parks_at_home():
         assert rig.bus.writes(since=t) == 0  # parked and left alone
     finally:
         rig.close()
+
+
+def test_garbage_reads_never_crash_the_loop_or_move_the_arm(rig):
+    at_inspect(rig)
+    real = rig.bus.bus.read_position
+    garbage = iter([65535, -30000, None, "x"] * 10)
+
+    def noisy(i):
+        if i == rig.ids["elbow"]:
+            return next(garbage)
+        return real(i)
+
+    rig.bus.read_position = noisy
+    t = rig.sim.clock.now()
+    rig.run(2.0)
+    assert rig.bus.writes(since=t) == 0
+    assert rig.arm.available and rig.arm.interface.read_errors >= 20
+    del rig.bus.read_position
+    rig.run(0.5)
+    assert rig.arm.interface.position("elbow") == pytest.approx(rig.truth("elbow"), abs=0.01)
