@@ -29,7 +29,7 @@ import numpy as np
 
 from arm import limits
 from arm.config import IkConfig, KinematicsConfig
-from arm.kinematics import miss_distance, planar
+from arm.kinematics import camera_ray, miss_distance, planar
 from arm.presets import PRESETS
 
 #: Starting guesses after ``inspect``: the other reaching presets, for targets far from it.
@@ -123,3 +123,20 @@ class CameraAim:
         if problems:
             return AimResult(False, None, miss, along, "unreachable: best pose " + ", ".join(problems))
         return AimResult(True, q, miss, along)
+
+
+def sample_reachable_targets(n: int, seed: int, kinematics: KinematicsConfig, config: IkConfig,
+                             margin: float = 0.02) -> list[np.ndarray]:
+    """Targets spread over the reachable set (for tests and the benchmark): a random pose in
+    the windows that looks down far enough, and a point on its optical axis at a random range
+    inside the allowed band (``margin`` inside every bound)."""
+    rng = np.random.default_rng(seed)
+    out: list[np.ndarray] = []
+    while len(out) < n:
+        q = rng.uniform(limits.LOWER, limits.UPPER)
+        _, _, _, dz = planar(q[1], q[2], q[3], kinematics, math)
+        if dz > -math.sin(config.min_look_down) - margin:
+            continue
+        p, d = camera_ray(q, kinematics)
+        out.append(p + rng.uniform(config.min_range + margin, config.max_range - margin) * d)
+    return out

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from arm import limits
-from arm.aim import CameraAim
+from arm.aim import CameraAim, sample_reachable_targets
 from arm.config import ArmConfig
 from arm.kinematics import camera_ray
 from arm.presets import PRESETS
@@ -13,18 +13,7 @@ CONFIG = ArmConfig()
 
 
 def reachable_targets(n: int, seed: int = 3) -> list[np.ndarray]:
-    """Targets spread over the reachable set: a random pose in the windows that looks down far
-    enough, and a point on its optical axis at a random range inside the allowed band."""
-    rng = np.random.default_rng(seed)
-    ik = CONFIG.ik
-    out = []
-    while len(out) < n:
-        q = rng.uniform(limits.LOWER, limits.UPPER)
-        p, d = camera_ray(q, CONFIG.kinematics)
-        if d[2] > -np.sin(ik.min_look_down) - 0.02:
-            continue
-        out.append(p + rng.uniform(ik.min_range + 0.02, ik.max_range - 0.02) * d)
-    return out
+    return sample_reachable_targets(n, seed, CONFIG.kinematics, CONFIG.ik)
 
 
 @pytest.fixture(scope="module")
