@@ -178,3 +178,19 @@ def test_garbage_reads_never_crash_the_loop_or_move_the_arm(rig):
     del rig.bus.read_position
     rig.run(0.5)
     assert rig.arm.interface.position("elbow") == pytest.approx(rig.truth("elbow"), abs=0.01)
+
+
+def test_suspend_stops_driving_and_resume_repins_the_live_pose(rig):
+    at_inspect(rig)
+    rig.arm.suspend()
+    with pytest.raises(ArmUnavailable, match="calibrated"):
+        rig.arm.preset("home")
+    t = rig.sim.clock.now()
+    rig.bus.bus.move(rig.ids["wrist"], rig.to_counts("wrist", -0.3), 200)  # the operator poses it
+    rig.run(1.0)
+    assert rig.bus.writes(since=t) == 0  # nothing fought the operator
+    rig.arm.resume()
+    rig.run(1.0)
+    assert rig.bus.writes(since=t) == 0  # re-pinned where it was left, no snap back
+    assert rig.arm.interface.command("wrist") == pytest.approx(rig.truth("wrist"), abs=0.02)
+    assert rig.truth("wrist") == pytest.approx(-0.3, abs=0.05)
