@@ -42,6 +42,8 @@ from nav.costmap.grid import INSCRIBED, UNKNOWN, CostGrid
 from nav.frames import compose, distance, inverse, transform_path
 from nav.goal_checker import GoalChecker
 from nav.localisation import Localisation
+from nav.mppi.controller import NoValidControl
+from nav.planner import PlanningError
 from nav.smoother import VelocitySmoother
 
 log = logging.getLogger(__name__)
@@ -205,8 +207,6 @@ class Navigator:
         costmap.update(scan, (lidar.x, lidar.y, lidar.yaw), (base.x, base.y))
 
     def _replan(self, now: float) -> bool:
-        from nav.planner import PlanningError  # the planner's own error type
-
         pose = self.map_pose()
         try:
             self.path = self.planner.plan(self.global_costmap.grid, (pose.x, pose.y), (self.goal.x, self.goal.y))
@@ -224,8 +224,6 @@ class Navigator:
         return True
 
     def _follow(self, pose: Pose2D, now: float, dt: float) -> None:
-        from nav.mppi.optimizer import NoValidControl
-
         odom_from_map = inverse(self.localisation.map_to_odom())
         path = transform_path(odom_from_map, self._pruned_path(pose))
         goal = compose(odom_from_map, self.goal)
