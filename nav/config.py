@@ -53,6 +53,13 @@ class GoalCheckerConfig(Strict):
     records that it "can bite" on hardware (MPPI iterating near the goal can blow the timeout)
     and that the documented fallback is to loosen it towards ~0.18 rad, trading camera framing
     for approach reliability. We keep 0.12 and measure how often it bites."""
+    stopped_velocity: float = Field(0.05, gt=0)
+    """The goal counts only once the robot is also at rest inside the tolerances: measured
+    translational speed below this, m/s (Nav2's StoppedGoalChecker). Without it the goal ends the
+    instant the robot crosses the 0.25 m circle at speed, and the camera frames the pot from
+    wherever that was; with it MPPI's GoalCritic brings the robot in to the pose itself."""
+    stopped_yaw_rate: float = Field(0.15, gt=0)
+    """Measured yaw rate below which the robot counts as at rest, rad/s (StoppedGoalChecker)."""
 
 
 class NavigatorConfig(Strict):
@@ -97,7 +104,7 @@ class NavConfig(Strict):
     """Navigate-to-pose: rates, timeout, recovery."""
 
     @model_validator(mode="after")
-    def _derive_smoother(self) -> "NavConfig":
+    def _derive_coupled(self) -> "NavConfig":
         m, s = self.mppi, self.smoother
         envelope_max = (m.vx_max, m.vy_max, m.wz_max)
         envelope_min = (m.vx_min, m.vy_min, -m.wz_max)
@@ -120,4 +127,13 @@ class NavConfig(Strict):
             if derived["max_accel"][i] <= 0 or derived["max_decel"][i] >= 0:
                 raise ValueError(f"smoother accel/decel {axis}: max_accel must be > 0 and max_decel < 0")
         object.__setattr__(self, "smoother", SmootherConfig.model_construct(**derived))
+        self._derive_goal_angle()
         return self
+
+    def _derive_goal_angle(self) -> None:
+        """GoalAngle's reach follows the motion model (see GoalAngleCriticConfig)."""
+        ga = self.mppi.critic.goal_angle
+        if ga.threshold_to_consider is None:
+            reach = (self.mppi.critic.goal.threshold_to_consider if self.mppi.motion_model == "omni"
+                     else self.goal_checker.xy_tolerance)
+            object.__setattr__(ga, "threshold_to_consider", reach)

@@ -185,7 +185,7 @@ class Navigator:
             return
         dt, self._last_control = now - self._last_control, now
         pose = self.map_pose()
-        if self.goal_checker.reached(pose, self.goal):
+        if self.goal_checker.reached(pose, self.goal, self.io.odom_twist()):
             self._finish(State.SUCCEEDED, "", now)
             return
         if self.state is State.RECOVERING:

@@ -7,7 +7,7 @@ Nav2's default (the reference's table).
 """
 from __future__ import annotations
 
-from typing import Literal
+from typing import Literal, Optional
 
 from pydantic import Field
 
@@ -24,8 +24,13 @@ class GoalCriticConfig(Strict):
 class GoalAngleCriticConfig(Strict):
     weight: float = 3.0
     """Seed: GoalAngleCritic 3.0 (square up the final heading for the tight yaw tolerance)."""
-    threshold_to_consider: float = 0.5
-    """Active within this distance of the goal, m (Nav2 default 0.5)."""
+    threshold_to_consider: Optional[float] = None
+    """Active within this distance of the goal, m. Unset, it is derived from the motion model
+    (``nav.config``): Omni, 1.4 m, with the goal critic: a holonomic base can hold its final
+    heading through the whole final approach, so it never has to square up at the end (where
+    the seed says 0.12 rad "can bite") and its heading does not wander while it strafes;
+    DiffDrive, the goal checker's xy tolerance: a heading pull that starts before the robot can
+    turn towards the goal position is Nav2's classic near-goal stall (Nav2's default is 0.5)."""
 
 
 class PathAlignCriticConfig(Strict):
@@ -95,19 +100,21 @@ class PreferForwardCriticConfig(Strict):
     """Inactive within this distance of the goal, m (Nav2 default 0.5)."""
 
 
-CRITICS = ("ConstraintCritic", "ObstaclesCritic", "GoalCritic", "GoalAngleCritic", "PathAlignCritic",
-           "PathFollowCritic", "PathAngleCritic", "PreferForwardCritic")
+CRITICS = ("constraint", "obstacles", "goal", "goal_angle", "path_align", "path_follow", "path_angle",
+           "prefer_forward")
+"""Nav2's ConstraintCritic, ObstaclesCritic, GoalCritic, GoalAngleCritic, PathAlignCritic,
+PathFollowCritic, PathAngleCritic and PreferForwardCritic, in snake case (config keys)."""
 
 
 class CriticsConfig(Strict):
-    GoalCritic: GoalCriticConfig = GoalCriticConfig()
-    GoalAngleCritic: GoalAngleCriticConfig = GoalAngleCriticConfig()
-    PathAlignCritic: PathAlignCriticConfig = PathAlignCriticConfig()
-    PathFollowCritic: PathFollowCriticConfig = PathFollowCriticConfig()
-    PathAngleCritic: PathAngleCriticConfig = PathAngleCriticConfig()
-    ObstaclesCritic: ObstaclesCriticConfig = ObstaclesCriticConfig()
-    ConstraintCritic: ConstraintCriticConfig = ConstraintCriticConfig()
-    PreferForwardCritic: PreferForwardCriticConfig = PreferForwardCriticConfig()
+    goal: GoalCriticConfig = GoalCriticConfig()
+    goal_angle: GoalAngleCriticConfig = GoalAngleCriticConfig()
+    path_align: PathAlignCriticConfig = PathAlignCriticConfig()
+    path_follow: PathFollowCriticConfig = PathFollowCriticConfig()
+    path_angle: PathAngleCriticConfig = PathAngleCriticConfig()
+    obstacles: ObstaclesCriticConfig = ObstaclesCriticConfig()
+    constraint: ConstraintCriticConfig = ConstraintCriticConfig()
+    prefer_forward: PreferForwardCriticConfig = PreferForwardCriticConfig()
 
 
 class MppiConfig(Strict):

@@ -15,8 +15,9 @@ from nav.mppi.critics.path_follow import PathFollowCritic
 from nav.mppi.critics.prefer_forward import PreferForwardCritic
 
 _CLASSES: dict[str, type[Critic]] = {
-    c.__name__: c for c in (ConstraintCritic, GoalCritic, GoalAngleCritic, ObstaclesCritic, PathAlignCritic,
-                            PathAngleCritic, PathFollowCritic, PreferForwardCritic)
+    "constraint": ConstraintCritic, "obstacles": ObstaclesCritic, "goal": GoalCritic, "goal_angle": GoalAngleCritic,
+    "path_align": PathAlignCritic, "path_follow": PathFollowCritic, "path_angle": PathAngleCritic,
+    "prefer_forward": PreferForwardCritic,
 }
 
 
@@ -27,7 +28,7 @@ def make_critics(config: MppiConfig, costmaps: CostmapsConfig) -> list[Critic]:
         if name not in _CLASSES:
             raise ValueError(f"unknown MPPI critic {name!r}; known: {', '.join(_CLASSES)}")
         params = getattr(config.critic, name)
-        if name == "ConstraintCritic":
+        if name == "constraint":
             out.append(ConstraintCritic(params, costmaps, config.vx_min, config.vx_max))
         else:
             out.append(_CLASSES[name](params, costmaps))
