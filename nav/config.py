@@ -127,13 +127,14 @@ class NavConfig(Strict):
             if derived["max_accel"][i] <= 0 or derived["max_decel"][i] >= 0:
                 raise ValueError(f"smoother accel/decel {axis}: max_accel must be > 0 and max_decel < 0")
         object.__setattr__(self, "smoother", SmootherConfig.model_construct(**derived))
-        self._derive_goal_angle()
+        self._derive_from_motion_model()
         return self
 
-    def _derive_goal_angle(self) -> None:
-        """GoalAngle's reach follows the motion model (see GoalAngleCriticConfig)."""
-        ga = self.mppi.critic.goal_angle
-        if ga.threshold_to_consider is None:
-            reach = (self.mppi.critic.goal.threshold_to_consider if self.mppi.motion_model == "omni"
-                     else self.goal_checker.xy_tolerance)
-            object.__setattr__(ga, "threshold_to_consider", reach)
+    def _derive_from_motion_model(self) -> None:
+        """GoalAngle's reach and PathAngle's mode follow the motion model (see their configs)."""
+        critic, omni = self.mppi.critic, self.mppi.motion_model == "omni"
+        if critic.goal_angle.threshold_to_consider is None:
+            reach = critic.goal.threshold_to_consider if omni else self.goal_checker.xy_tolerance
+            object.__setattr__(critic.goal_angle, "threshold_to_consider", reach)
+        if critic.path_angle.mode is None:
+            object.__setattr__(critic.path_angle, "mode", "path_orientation" if omni else "forward")

@@ -66,12 +66,13 @@ class PathAngleCriticConfig(Strict):
     max_angle_to_furthest: float = 0.785
     """Only active when the robot's heading is off the bearing to that point by more than this,
     rad (Nav2 default 0.785)."""
-    mode: Literal["forward", "bidirectional", "path_orientation"] = "path_orientation"
+    mode: Optional[Literal["forward", "bidirectional", "path_orientation"]] = None
     """Nav2's three modes: forward preference (0), no directional preference (1), consider the
-    path's own orientations (2). A holonomic base does not need to face where it drives: the
-    navigator gives the plan the goal's heading (``nav.navigator``), and mode 2 then lets the
-    robot strafe along it holding that heading, as the Omni model intends (Nav2's guidance for
-    holonomic robots is mode 2 or 1, never forward preference)."""
+    path's own orientations (2). Unset, it follows the motion model (``nav.config``): Omni uses
+    ``path_orientation``, and the controller gives the plan the goal's heading, so the robot
+    strafes along the plan holding the heading it must arrive with, as the Omni model intends
+    (a holonomic base need not face where it drives); DiffDrive uses ``forward``, Nav2's
+    default, because it must face where it drives."""
 
 
 class ObstaclesCriticConfig(Strict):

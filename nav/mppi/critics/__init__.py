@@ -23,6 +23,10 @@ _CLASSES: dict[str, type[Critic]] = {
 
 def make_critics(config: MppiConfig, costmaps: CostmapsConfig) -> list[Critic]:
     """The critics ``config.critics`` names, with their parameters; an unknown name is an error."""
+    c = config.critic
+    if c.goal_angle.threshold_to_consider is None or c.path_angle.mode is None:
+        raise ValueError("MPPI config has unresolved motion-model defaults: take it from NavConfig (nav.config), "
+                         "which derives GoalAngle's reach and PathAngle's mode")
     out = []
     for name in config.critics:
         if name not in _CLASSES:
