@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numba
 import numpy as np
 
 from nav.costmap.grid import CostGrid
@@ -41,5 +42,22 @@ class CriticData:
 
 
 def shortest_angle(a, b):
-    """Signed a - b wrapped to (-pi, pi]."""
-    return np.remainder(a - b + np.pi, 2 * np.pi) - np.pi
+    """Signed a - b wrapped to [-pi, pi] (rint is several times cheaper than remainder)."""
+    d = np.subtract(a, b, dtype=np.float32)
+    return d - np.float32(2 * np.pi) * np.rint(d * np.float32(1 / (2 * np.pi)))
+
+
+@numba.njit(cache=True, fastmath=True)
+def mean_abs_angle_error(yaw, target):
+    """Per trajectory, the mean over time of |yaw - target| wrapped: (B, T) -> (B,)."""
+    b, t = yaw.shape
+    out = np.empty(b, np.float32)
+    two_pi = 2.0 * np.pi
+    for k in range(b):
+        acc = 0.0
+        for i in range(t):
+            d = yaw[k, i] - target
+            d -= two_pi * np.floor(d / two_pi + 0.5)
+            acc += abs(d)
+        out[k] = acc / t
+    return out

@@ -32,7 +32,8 @@ def drive(ctrl, goal, grid, start=(0.0, 0.0, 0.0), steps=400, path=None):
     if path is None:
         path = with_headings(straight_path((x, y), goal[:2]), goal[2])
     for _ in range(steps):
-        cmd = np.array(ctrl.compute((x, y, yaw), tuple(v), path, goal, grid))
+        ahead = path[int(np.argmin(np.hypot(path[:, 0] - x, path[:, 1] - y))):]  # pruned, as the navigator does
+        cmd = np.array(ctrl.compute((x, y, yaw), tuple(v), ahead if len(ahead) > 1 else path[-2:], goal, grid))
         v = cmd
         x += (v[0] * math.cos(yaw) - v[1] * math.sin(yaw)) * 0.05
         y += (v[0] * math.sin(yaw) + v[1] * math.cos(yaw)) * 0.05

@@ -5,6 +5,7 @@ rule: the *combined* translational speed, signed by vx, must stay inside [vx_min
 diagonal of vx 0.5 and vy 0.5 (0.71 m/s) is not free."""
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from nav.costmap.config import CostmapsConfig
@@ -18,7 +19,23 @@ class ConstraintCritic(Critic):
         self.vx_min, self.vx_max = vx_min, vx_max
 
     def score(self, data: CriticData) -> None:
-        vx, vy = data.v[0], data.v[1]
-        speed = np.where(vx >= 0.0, 1.0, -1.0) * np.hypot(vx, vy)
-        over = np.maximum(speed - self.vx_max, 0.0) + np.maximum(self.vx_min - speed, 0.0)
-        data.costs += self.params.weight * over.sum(axis=1) * data.dt
+        data.costs += self.params.weight * _violation(data.v[0], data.v[1], self.vx_min, self.vx_max) * data.dt
+
+
+@numba.njit(cache=True, fastmath=True)
+def _violation(vx, vy, lo, hi):
+    """Per trajectory, the sum over time of how far sign(vx) * |(vx, vy)| leaves [lo, hi]."""
+    b, t = vx.shape
+    out = np.zeros(b, np.float32)
+    for k in range(b):
+        acc = 0.0
+        for i in range(t):
+            s = np.sqrt(vx[k, i] * vx[k, i] + vy[k, i] * vy[k, i])
+            if vx[k, i] < 0.0:
+                s = -s
+            if s > hi:
+                acc += s - hi
+            elif s < lo:
+                acc += lo - s
+        out[k] = acc
+    return out

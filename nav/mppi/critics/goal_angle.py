@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from nav.mppi.critic_data import CriticData, shortest_angle
+from nav.mppi.critic_data import CriticData, mean_abs_angle_error
 from nav.mppi.critics.base import Critic
 
 
@@ -14,5 +14,4 @@ class GoalAngleCritic(Critic):
         p = self.params
         if data.goal_distance > p.threshold_to_consider:
             return
-        err = np.abs(shortest_angle(data.traj[2], data.goal[2]))
-        data.costs += p.weight * err.mean(axis=1)
+        data.costs += p.weight * mean_abs_angle_error(data.traj[2], np.float32(data.goal[2]))

@@ -13,11 +13,13 @@ Per trajectory point, the cost of the costmap cell under the robot's centre:
 - free cells (0) add nothing.
 
 Total: ``critical_weight * critical + repulsion_weight * (rep - min rep) / T`` (reference).
-All of it is three table lookups per point: the per-cost terms are precomputed for 0..255.
+One numba pass per trajectory with the per-cost terms precomputed for 0..255 (a trajectory
+stops being scored at its first collision, as in Nav2).
 Sets ``data.fail`` when every trajectory collides.
 """
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from nav.costmap.config import CostmapsConfig
@@ -39,26 +41,38 @@ class ObstaclesCritic(Critic):
         self._collides = np.zeros(256, dtype=bool)
         self._collides[[INSCRIBED, LETHAL, UNKNOWN]] = True
 
-    def cell_costs(self, data: CriticData) -> np.ndarray:
-        """Cost of the cell under every trajectory point, (B, T) uint8; off the map = unknown."""
-        g = data.grid
-        inv = np.float32(1.0 / g.resolution)
-        ix = np.floor((data.traj[0] - np.float32(g.origin_x)) * inv).astype(np.int32)
-        iy = np.floor((data.traj[1] - np.float32(g.origin_y)) * inv).astype(np.int32)
-        h, w = g.data.shape
-        inside = (ix >= 0) & (ix < w) & (iy >= 0) & (iy < h)
-        flat = np.where(inside, iy * w + ix, 0)
-        return np.where(inside, g.data.ravel()[flat], np.uint8(UNKNOWN))
-
     def score(self, data: CriticData) -> None:
-        p = self.params
-        cost = self.cell_costs(data)
-        collide = self._collides[cost].any(axis=1)
-        critical = self._critical[cost].sum(axis=1)
-        raw = np.where(collide, np.float32(p.collision_cost), critical)
-        total = p.critical_weight * raw
+        p, g = self.params, data.grid
+        collide, critical, rep = _scan(data.traj[0], data.traj[1], g.data, np.float32(g.origin_x),
+                                       np.float32(g.origin_y), np.float32(1.0 / g.resolution),
+                                       self._collides, self._critical, self._repulsion)
+        total = p.critical_weight * np.where(collide, np.float32(p.collision_cost), critical)
         if data.goal_distance > p.near_goal_distance:
-            rep = self._repulsion[cost].sum(axis=1)
-            total = total + p.repulsion_weight * (rep - rep.min()) / cost.shape[1]
+            total = total + p.repulsion_weight * (rep - rep.min()) / data.traj.shape[2]
         data.costs += total.astype(np.float32)
         data.fail = bool(collide.all())
+
+
+@numba.njit(cache=True, fastmath=True)
+def _scan(x, y, grid, ox, oy, inv_res, collides, critical_lut, repulsion_lut):
+    """One pass over every trajectory point: the cell under it (off the map = unknown), whether
+    the trajectory collides, and its summed critical and repulsion terms."""
+    b, t = x.shape
+    h, w = grid.shape
+    collide = np.zeros(b, np.bool_)
+    critical = np.zeros(b, np.float32)
+    rep = np.zeros(b, np.float32)
+    for k in range(b):
+        c_sum, r_sum = 0.0, 0.0
+        for i in range(t):
+            ix = int(np.floor((x[k, i] - ox) * inv_res))
+            iy = int(np.floor((y[k, i] - oy) * inv_res))
+            cost = grid[iy, ix] if (0 <= ix < w and 0 <= iy < h) else 255
+            if collides[cost]:
+                collide[k] = True
+                break
+            c_sum += critical_lut[cost]
+            r_sum += repulsion_lut[cost]
+        critical[k] = c_sum
+        rep[k] = r_sum
+    return collide, critical, rep

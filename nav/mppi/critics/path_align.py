@@ -29,12 +29,12 @@ class PathAlignCritic(Critic):
         if occupied.mean() > p.max_path_occupancy_ratio:
             return
         path_cum = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(path[:, :2], axis=0).T))]).astype(np.float32)
-        x, y = data.traj[0], data.traj[1]
-        dx = np.diff(x, axis=1, prepend=np.float32(data.pose[0]))
-        dy = np.diff(y, axis=1, prepend=np.float32(data.pose[1]))
-        cum = np.cumsum(np.hypot(dx, dy), axis=1)
+        # Arc length measured between the sampled points only, as Nav2 does (4x fewer hypots).
         cols = slice(p.trajectory_point_step - 1, None, p.trajectory_point_step)
-        s, sx, sy = cum[:, cols], x[:, cols], y[:, cols]
+        sx, sy = data.traj[0][:, cols], data.traj[1][:, cols]
+        dx = np.diff(sx, axis=1, prepend=np.float32(data.pose[0]))
+        dy = np.diff(sy, axis=1, prepend=np.float32(data.pose[1]))
+        s = np.cumsum(np.hypot(dx, dy), axis=1)
         hi = np.clip(np.searchsorted(path_cum, s), 1, len(path_cum) - 1)
         nearer_lo = (s - path_cum[hi - 1]) < (path_cum[hi] - s)
         idx = np.where(nearer_lo, hi - 1, hi)

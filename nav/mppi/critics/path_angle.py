@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from nav.mppi.critic_data import CriticData, shortest_angle
+from nav.mppi.critic_data import CriticData, mean_abs_angle_error, shortest_angle
 from nav.mppi.critics.base import Critic
 
 
@@ -25,7 +25,8 @@ class PathAngleCritic(Critic):
         if p.mode == "path_orientation":
             if abs(shortest_angle(yaw, gyaw)) < p.max_angle_to_furthest:
                 return
-            err = np.abs(shortest_angle(data.traj[2], gyaw))
+            data.costs += p.weight * mean_abs_angle_error(data.traj[2], np.float32(gyaw))
+            return
         else:
             bearing_now = np.arctan2(gy - y, gx - x)
             off = abs(shortest_angle(yaw, bearing_now))
