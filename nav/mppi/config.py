@@ -109,13 +109,21 @@ PathFollowCritic, PathAngleCritic and PreferForwardCritic, in snake case (config
 
 class CriticsConfig(Strict):
     goal: GoalCriticConfig = GoalCriticConfig()
+    """GoalCritic: pull toward the goal."""
     goal_angle: GoalAngleCriticConfig = GoalAngleCriticConfig()
+    """GoalAngleCritic: square up the final heading."""
     path_align: PathAlignCriticConfig = PathAlignCriticConfig()
+    """PathAlignCritic: hug the global path (dominant)."""
     path_follow: PathFollowCriticConfig = PathFollowCriticConfig()
+    """PathFollowCritic: progress along the path."""
     path_angle: PathAngleCriticConfig = PathAngleCriticConfig()
+    """PathAngleCritic: heading against the path."""
     obstacles: ObstaclesCriticConfig = ObstaclesCriticConfig()
+    """ObstaclesCritic: avoid lethal cells, keep a margin."""
     constraint: ConstraintCriticConfig = ConstraintCriticConfig()
+    """ConstraintCritic: respect the velocity envelope."""
     prefer_forward: PreferForwardCriticConfig = PreferForwardCriticConfig()
+    """PreferForwardCritic: a weak bias against reversing."""
 
 
 class MppiConfig(Strict):

@@ -12,7 +12,10 @@ FLOOR = (8.0, 6.0)
 
 @pytest.fixture
 def rig():
+    """The sim devices with the runtime's services, minus the arm controller: these tests write
+    the servo bus raw, which the controller (rightly) overwrites."""
     sim, robot = assemble(open_floor(spawn=(3.0, 3.0, 0.0), size=FLOOR))
+    robot.scheduler.cancel("arm")
     yield sim, robot
     sim.close()
 
