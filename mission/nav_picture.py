@@ -2,7 +2,8 @@
 driven path as the robot believed it (odometry) and as it was (sim ground truth).
 
 Drawn in the map frame (origin = the robot's start pose), north of the map up. Colours: unknown
-grey, free white, inflated cost in orange shades, inscribed red, lethal black; plan blue,
+grey, free white, inflated cost in orange shades, inscribed red, lethal black; the plans light blue
+(the last one dark blue),
 odometry green, truth magenta; the goal as a circle of the xy tolerance with its heading.
 """
 from __future__ import annotations
@@ -19,7 +20,7 @@ from nav.costmap.grid import INSCRIBED, LETHAL, UNKNOWN, CostGrid
 
 PX_PER_CELL = 4
 MARGIN_M = 0.6
-BLUE, GREEN, MAGENTA, BLACK = (200, 80, 0), (40, 160, 40), (180, 40, 200), (0, 0, 0)
+BLUE, LIGHT_BLUE, GREEN, MAGENTA, BLACK = (200, 80, 0), (240, 200, 150), (40, 160, 40), (180, 40, 200), (0, 0, 0)
 
 
 def _palette() -> np.ndarray:
@@ -35,12 +36,12 @@ def _palette() -> np.ndarray:
     return lut
 
 
-def draw_run(grid: CostGrid, plan: np.ndarray | None, odom: Sequence[Pose2D], truth: Sequence[Pose2D],
+def draw_run(grid: CostGrid, plans: Sequence[np.ndarray], odom: Sequence[Pose2D], truth: Sequence[Pose2D],
              goal: Pose2D, xy_tolerance: float) -> np.ndarray:
-    """BGR image; every pose in the map frame."""
-    pts = [np.array([[p.x, p.y] for p in odom + truth] + [[goal.x, goal.y]])]
-    if plan is not None and len(plan):
-        pts.append(np.asarray(plan)[:, :2])
+    """BGR image; every pose in the map frame. Earlier plans are drawn thin, the last one bold."""
+    plan = plans[-1] if len(plans) else None
+    pts = [np.array([[p.x, p.y] for p in list(odom) + list(truth)] + [[goal.x, goal.y]])]
+    pts += [np.asarray(p)[:, :2] for p in plans]
     iy, ix = np.nonzero(grid.data != UNKNOWN)
     if len(ix):
         pts.append(np.column_stack(grid.cell_to_world(ix, iy)))
@@ -58,6 +59,8 @@ def draw_run(grid: CostGrid, plan: np.ndarray | None, odom: Sequence[Pose2D], tr
     def px(x, y) -> np.ndarray:
         return np.column_stack([(np.asarray(x) - ox) * ppm, (oy - np.asarray(y)) * ppm]).round().astype(np.int32)
 
+    for old in plans[:-1]:
+        cv2.polylines(img, [px(old[:, 0], old[:, 1])], False, LIGHT_BLUE, 1, cv2.LINE_AA)
     if plan is not None and len(plan):
         cv2.polylines(img, [px(plan[:, 0], plan[:, 1])], False, BLUE, 2, cv2.LINE_AA)
     for path, colour in ((odom, GREEN), (truth, MAGENTA)):

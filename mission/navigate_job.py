@@ -34,6 +34,8 @@ class NavigateRun(SimRuntime):
     """The robot's own belief (map frame carried into the world frame), at 10 Hz."""
     bumps: dict[str, float] = field(default_factory=dict)
     """World geoms the chassis touched, with the first time each was touched (s)."""
+    plans: list = field(default_factory=list)
+    """Every distinct global plan the navigator made (map frame), oldest first."""
 
     @property
     def now(self) -> float:
@@ -81,6 +83,8 @@ def start_navigate(world: World, config: LupinConfig) -> NavigateRun:
         run.odom_path.append(compose(spawn, run.nav.map_pose()))
         for name in sim.touching():
             run.bumps.setdefault(name, now)
+        if run.nav.path is not None and (not run.plans or run.plans[-1] is not run.nav.path):
+            run.plans.append(run.nav.path)
 
     robot.scheduler.every("trace", TRACE_RATE, trace)
     return run

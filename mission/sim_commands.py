@@ -115,7 +115,10 @@ def snapshot(
     from sim.snapshot import render_snapshot, write_png
 
     config = run_config(ctx)
-    image = render_snapshot(_world(world), config.sim, config.hw, camera, xyyaw)
+    from arm.presets import preset
+
+    arm = preset("inspect") if camera == "wrist" else None
+    image = render_snapshot(_world(world), config.sim, config.hw, camera, xyyaw, arm)
     write_png(output, image)
     print(f"wrote {output} ({image.shape[1]}x{image.shape[0]}, {camera} camera)")
 
@@ -165,7 +168,7 @@ def navigate(
                   "wall_time_s": round(wall, 2), "distance_m": round(run.distance, 3),
                   "truth_error": {"xy": round(xy, 4), "yaw": round(yaw, 4)}}
         if picture is not None:
-            write_picture(picture, draw_run(run.nav.global_costmap.grid, run.nav.path,
+            write_picture(picture, draw_run(run.nav.global_costmap.grid, run.plans,
                                             [run.to_map(p) for p in run.odom_path],
                                             [run.to_map(p) for p in run.truth_path], run.to_map(goal),
                                             config.nav.goal_checker.xy_tolerance))

@@ -6,7 +6,6 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from arm.presets import preset
 from hw.errors import InputError
 from hw.config import HwConfig
 from sim.backend import SimRobot
@@ -15,17 +14,20 @@ from sim.world import World
 
 
 def render_snapshot(world: World, sim_config: SimConfig, hw_config: HwConfig, camera: str,
-                    pose: tuple[float, float, float] | None = None) -> np.ndarray:
+                    pose: tuple[float, float, float] | None = None,
+                    arm: dict[str, float] | None = None) -> np.ndarray:
     """BGR image of ``camera`` ('front', 'wrist' or 'overview') with the robot at ``pose``.
 
-    The wrist camera is shown with the arm at ``inspect``, the pose it is used in on patrol.
+    ``arm`` (joint -> radians) places the arm first; the CLI passes ``inspect`` for the wrist
+    camera, the pose it is used in on patrol (the sim takes joint angles, not preset names: the
+    presets belong to the arm package above it).
     """
     sim = SimRobot(world, sim_config, hw_config)
     try:
         if pose is not None:
             sim.place(*pose)
-        if camera == "wrist":
-            sim.servos.place(preset("inspect"))
+        if arm is not None:
+            sim.servos.place(arm)
         sim.engine.forward()
         if camera == "overview":
             # The orthographic overview frames the floor's y extent; an image of the floor's

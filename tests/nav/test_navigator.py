@@ -1,0 +1,128 @@
+"""The navigator's state machine on fakes: recovery, planning failures, timeout, cancel, e-stop.
+(The whole stack in the simulator is test_navigation_sim.py.)"""
+from __future__ import annotations
+
+import numpy as np
+
+from hw.interfaces import ZERO_TWIST, LidarScan, Twist
+from hw.odometry import Pose2D
+from nav.config import NavConfig
+from nav.localisation import OdometryOnly
+from nav.mppi.controller import NoValidControl
+from nav.navigator import Navigator, Sources, State
+from nav.planner import PlanningError
+from tests.nav.builders import dummy_costmap, straight_path
+
+
+class FakeCostmap:
+    def __init__(self):
+        self.grid = dummy_costmap(60, 60, origin=(-1.5, -1.5))
+        self.clears = 0
+        self.updates = 0
+
+    def update(self, scan, sensor_pose, robot_xy):
+        self.updates += 1
+
+    def clear(self):
+        self.clears += 1
+
+
+class FakePlanner:
+    def __init__(self, fail=False):
+        self.fail, self.calls = fail, 0
+
+    def plan(self, grid, start, goal):
+        self.calls += 1
+        if self.fail:
+            raise PlanningError("no path to the goal")
+        return straight_path(start, goal)
+
+
+class FakeController:
+    def __init__(self, fail=False):
+        self.fail, self.resets = fail, 0
+
+    def compute(self, pose, velocity, path, goal, grid):
+        if self.fail:
+            raise NoValidControl("every trajectory collides")
+        return (0.3, 0.0, 0.0)
+
+    def reset(self):
+        self.resets += 1
+
+
+class Rig:
+    def __init__(self, planner=None, controller=None):
+        self.pose, self.twist, self.estopped = Pose2D(), ZERO_TWIST, False
+        self.published: list[tuple[float, Twist]] = []
+        scan = LidarScan(0.0, np.zeros(1, np.float32), np.full(1, np.inf, np.float32))
+        io = Sources(lambda: self.pose, lambda: self.twist, lambda: scan,
+                     lambda t, now: self.published.append((now, t)), lambda: self.estopped)
+        self.local, self.glob = FakeCostmap(), FakeCostmap()
+        self.planner = planner or FakePlanner()
+        self.controller = controller or FakeController()
+        self.nav = Navigator(NavConfig(), io, OdometryOnly(), self.local, self.glob, self.planner, self.controller)
+
+    def run(self, until, t0=0.0):
+        t = t0
+        while t <= until and self.nav.active:
+            self.nav.tick_control(t)
+            if round(t * 20) % 20 == 0:
+                self.nav.tick_planner(t)
+            t = round(t + 0.05, 6)
+        return t
+
+
+def test_recovery_clears_the_local_costmap_backs_off_and_gives_up_after_the_bound():
+    rig = Rig(controller=FakeController(fail=True))
+    rig.nav.navigate_to(Pose2D(2.0, 0.0, 0.0), 0.0, timeout=60.0)
+    rig.run(30.0)
+    assert rig.nav.state is State.FAILED and "no valid control after 3 recoveries" in rig.nav.reason
+    assert rig.local.clears == 3
+    backing = [t for _, t in rig.published if t.vx < 0]
+    assert backing and all(t.vx >= -0.1 - 1e-9 for t in backing)  # slow back-off, open space behind
+    assert rig.published[-1][1] == ZERO_TWIST
+
+
+def test_repeated_planning_failures_fail_with_the_reason_and_hold_still():
+    rig = Rig(planner=FakePlanner(fail=True))
+    rig.nav.navigate_to(Pose2D(2.0, 0.0, 0.0), 0.0, timeout=60.0)
+    t = rig.run(30.0)
+    assert rig.nav.state is State.FAILED and rig.nav.reason == "no path: no path to the goal"
+    assert t < 5.0  # three failures at the 1 Hz replan, not the 60 s timeout
+    assert all(tw == ZERO_TWIST for _, tw in rig.published)
+
+
+def test_timeout_cancel_and_estop_all_zero_the_auto_source():
+    rig = Rig()
+    rig.nav.navigate_to(Pose2D(5.0, 0.0, 0.0), 0.0, timeout=2.0)
+    rig.run(10.0)
+    assert rig.nav.state is State.FAILED and rig.nav.reason.startswith("timeout")
+    assert rig.published[-1][1] == ZERO_TWIST
+
+    rig.nav.navigate_to(Pose2D(5.0, 0.0, 0.0), 10.0)
+    rig.nav.tick_control(10.05)
+    assert rig.published[-1][1].vx > 0
+    rig.nav.cancel(10.07)
+    assert rig.nav.state is State.CANCELED and rig.published[-1] == (10.07, ZERO_TWIST)
+
+    rig.nav.navigate_to(Pose2D(5.0, 0.0, 0.0), 11.0)
+    rig.estopped = True
+    rig.nav.tick_control(11.05)
+    assert rig.nav.state is State.CANCELED and rig.nav.reason == "e-stop engaged"
+    rig.estopped = False
+    rig.nav.tick_control(11.10)
+    assert rig.nav.state is State.CANCELED  # a release does not restart the goal
+
+
+def test_success_needs_the_robot_at_rest_inside_the_tolerances():
+    rig = Rig()
+    rig.nav.navigate_to(Pose2D(0.1, 0.0, 0.05), 0.0)
+    rig.twist = Twist(0.2, 0.0, 0.0)
+    rig.nav.tick_control(0.05)
+    assert rig.nav.state is State.FOLLOWING  # inside 0.25 m / 0.12 rad but still moving
+    rig.twist = ZERO_TWIST
+    rig.nav.tick_control(0.10)
+    assert rig.nav.state is State.SUCCEEDED
+    fb = rig.nav.feedback(0.1)
+    assert fb.state is State.SUCCEEDED and fb.distance_remaining < 0.15
