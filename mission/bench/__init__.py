@@ -12,6 +12,7 @@ from __future__ import annotations
 import importlib
 import json
 import pkgutil
+import time
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -30,6 +31,19 @@ class Sample:
 
 
 BENCHMARKS: dict[str, Callable[[LupinConfig], Sample]] = {}
+
+
+def time_ms(fn: Callable[[], object], n: int, warmup: int = 1) -> list[float]:
+    """Wall milliseconds of ``n`` calls of ``fn`` after ``warmup`` untimed ones (numba loads
+    its cache, caches fill)."""
+    for _ in range(warmup):
+        fn()
+    out = []
+    for _ in range(n):
+        t0 = time.perf_counter()
+        fn()
+        out.append((time.perf_counter() - t0) * 1000.0)
+    return out
 
 
 def benchmark(name: str):

@@ -16,7 +16,7 @@ import cv2
 import numpy as np
 
 from hw.interfaces import LidarScan
-from mission.bench import Sample, benchmark
+from mission.bench import Sample, benchmark, time_ms
 from mission.config import LupinConfig
 from nav.costmap.grid import FREE, LETHAL, UNKNOWN, CostGrid
 from nav.costmap.inflation import InflationLayer
@@ -25,16 +25,6 @@ from nav.costmap.raytrace import clear_rays, ray_cells
 from nav.planner import NavfnPlanner, propagate
 
 RES = 0.05
-
-
-def _ms(fn, n: int) -> list[float]:
-    fn()  # warm-up (numba compiles or loads its cache)
-    out = []
-    for _ in range(n):
-        t0 = time.perf_counter()
-        fn()
-        out.append((time.perf_counter() - t0) * 1000.0)
-    return out
 
 
 def _greenhouse(cells: int, unknown_fraction: float = 0.0, seed: int = 0) -> np.ndarray:
@@ -58,8 +48,8 @@ def _inflation(config: LupinConfig) -> InflationLayer:
 
 def _inflate(config: LupinConfig, cells: int, n: int) -> Sample:
     layer, master = _inflation(config), _greenhouse(cells, unknown_fraction=0.3)
-    times = _ms(lambda: layer.apply(master), n)
-    edt = _ms(lambda: layer.apply_edt(master), max(3, n // 4))
+    times = time_ms(lambda: layer.apply(master), n)
+    edt = time_ms(lambda: layer.apply_edt(master), max(3, n // 4))
     return Sample(times, {"cells": cells * cells, "lethal_cells": int((master == LETHAL).sum()),
                           "edt_median_ms": round(float(np.median(edt)), 3),
                           "same_result": bool(np.array_equal(layer.apply(master), layer.apply_edt(master)))})
@@ -91,7 +81,7 @@ def plan_400(config: LupinConfig) -> Sample:
         path = planner.plan(grid, start, goal)
         path_len.append(len(path))
 
-    times = _ms(once, 30)
+    times = time_ms(once, 30)
     cost = np.full((402, 402), 254, np.uint8)
     cost[1:-1, 1:-1] = np.where(grid.data >= 253, 254, 50 + (0.8 * grid.data).astype(np.uint8))
     t0 = time.perf_counter()
@@ -131,20 +121,20 @@ def local_update(config: LupinConfig) -> Sample:
         x, y, yaw = poses[i]
         costmap.update(scans[i], (x, y, yaw), (x, y))
 
-    times = _ms(once, 200)
+    times = time_ms(once, 200)
     # Side by side: the clearing step alone for one scan, numba against vectorised numpy.
     grid = costmap.obstacle.grid
     x0, y0 = (int(v) for v in grid.world_to_cell(*poses[0][:2]))
     ends = np.clip(np.stack(grid.world_to_cell(poses[0][0] + np.cos(scans[0].angles) * 3.0,
                                                poses[0][1] + np.sin(scans[0].angles) * 3.0)), 0, grid.width - 1)
     data = np.zeros_like(grid.data)
-    numba_ms = _ms(lambda: clear_rays(data, x0, y0, ends[0], ends[1], FREE), 50)
+    numba_ms = time_ms(lambda: clear_rays(data, x0, y0, ends[0], ends[1], FREE), 50)
 
     def numpy_clear():
         ix, iy = ray_cells(x0, y0, ends[0], ends[1])
         data[iy, ix] = FREE
 
-    numpy_ms = _ms(numpy_clear, 50)
+    numpy_ms = time_ms(numpy_clear, 50)
     return Sample(times, {"beams": 500, "window_cells": int(grid.data.size),
                           "numba_raytrace_ms": round(float(np.median(numba_ms)), 3),
                           "numpy_raytrace_ms": round(float(np.median(numpy_ms)), 3)})

@@ -9,11 +9,10 @@ the 56 steps, beside ``numba_rollout_ms``: the figure that justifies numba.
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 
-from mission.bench import Sample, benchmark
+from mission.bench import Sample, benchmark, time_ms
 from mission.config import LupinConfig
 from nav.costmap.layered import local_costmap
 from nav.mppi.controller import MppiController
@@ -22,15 +21,6 @@ from sim.world import load_default_world
 
 CYCLES = 200
 POSE = (3.0, 0.5, 0.0)
-
-
-def _ms(fn, n):
-    out = []
-    for _ in range(n):
-        t0 = time.perf_counter()
-        fn()
-        out.append((time.perf_counter() - t0) * 1000.0)
-    return out
 
 
 def _numpy_rollout(model, cv, v0, pose):
@@ -71,12 +61,12 @@ def mppi_cycle(config: LupinConfig) -> Sample:
 
     for _ in range(5):
         cycle()  # warm-up: numba loads its cache, the sequence warms up
-    times = _ms(cycle, CYCLES)
+    times = time_ms(cycle, CYCLES, warmup=0)
     opt = ctrl.optimizer
     cv = opt.u.T[:, None, :] + opt._noise
     v0 = np.array([0.3, 0.0, 0.0], np.float32)
-    numba_ms = _ms(lambda: opt.model.rollout(cv, v0, POSE, opt._v, opt._traj), 50)
-    numpy_ms = _ms(lambda: _numpy_rollout(opt.model, cv, v0, POSE), 20)
+    numba_ms = time_ms(lambda: opt.model.rollout(cv, v0, POSE, opt._v, opt._traj), 50, warmup=0)
+    numpy_ms = time_ms(lambda: _numpy_rollout(opt.model, cv, v0, POSE), 20, warmup=0)
     median = float(np.median(times))
     return Sample(times, {
         "batch": cfg.mppi.batch_size, "time_steps": cfg.mppi.time_steps, "critics": len(cfg.mppi.critics),
