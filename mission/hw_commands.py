@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import json
 import math
-import time
 from typing import Optional
 
 import numpy as np
@@ -34,6 +33,7 @@ from hw.drivers.tca9548a import Tca9548a
 from hw.errors import InputError
 from hw.interfaces import WHEELS, DeviceError
 from hw.leds import PALETTE, to_wire
+from hw.wall_clock import WallClock
 from mission.sim_commands import run_config
 
 open_i2c = open_bus
@@ -257,13 +257,14 @@ def lidar_scan(ctx: typer.Context, port: Optional[str] = PORT, baud: Optional[in
     try:
         lidar.start()
         seen = None
-        deadline = time.monotonic() + lidar.spinup_s + revolutions * 0.5
-        while len(scans) < revolutions and time.monotonic() < deadline:
+        clock = WallClock()
+        deadline = clock.now() + lidar.spinup_s + revolutions * 0.5
+        while len(scans) < revolutions and clock.now() < deadline:
             s = lidar.wait_for_scan(0.2)
             if s is not None and s is not seen:
                 scans.append(s)
                 seen = s
-            time.sleep(0.01)
+            clock.wait_until(clock.now() + 0.01)
     finally:
         lidar.close()
     if not scans:
@@ -285,10 +286,11 @@ def encoders(ctx: typer.Context, seconds: float = typer.Option(2.0, "--seconds",
     c = _devices(ctx).devices.encoders
     req = gpio_request(c.chip, [o for ab in c.lines.values() for o in ab], pull_up=True)
     enc = QuadratureEncoders(req, c.lines)
-    end = time.monotonic() + seconds
-    while time.monotonic() < end:
+    clock = WallClock()
+    end = clock.now() + seconds
+    while clock.now() < end:
         enc.poll()
-        time.sleep(0.05)
+        clock.wait_until(clock.now() + 0.05)
     ticks = enc.read_ticks()
     enc.close()
     rows = {w: {"ticks": int(t), "lost": int(lo), "illegal": int(il)}
