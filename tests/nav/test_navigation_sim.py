@@ -147,3 +147,13 @@ def test_fifty_pot_approaches_in_generated_greenhouses():
     # Success is the robot's own judgement; ground truth must agree it is really there (odometry
     # drifts ~1 % of the distance driven until SLAM lands, so allow that on top of the tolerance).
     assert max(r.truth_error[0] for r in ok) < 0.25 + 0.15
+
+
+def test_navigation_is_deterministic_for_a_seed():
+    paths = []
+    for _ in range(2):
+        run = navigate_run(open_floor(spawn=(1.0, 3.0, 0.0)), seed=4)
+        assert run.go(Pose2D(2.5, 3.6, 0.8), timeout=30.0) == "succeeded"
+        paths.append([(p.x, p.y, p.yaw) for p in run.truth_path])
+        run.close()
+    assert paths[0] == paths[1]
