@@ -1,6 +1,6 @@
 """The arm's trajectory controller: one 10 Hz beat from joint state to bus writes.
 
-Each ``tick(now)`` (mission/scheduler.py calls it at the seed's 10 Hz controller rate):
+Each ``tick(now)`` (mission/runtime/scheduler.py calls it at the seed's 10 Hz controller rate):
 
 1. read the joint state; the first complete one *pins* the live pose (nothing snaps to 0);
 2. start a queued move (a preset or an IK pose) as one trajectory of all four joints, timed

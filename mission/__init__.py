@@ -1,4 +1,4 @@
-"""The runtime: config, clocks and scheduler, robot assembly, jobs (drive, bench) and the CLI.
-
-Later issues add the py_trees patrol mission and its report here.
+"""The top layer: ``runtime`` (config, scheduler, robot assembly, heal), ``jobs`` (drive,
+navigate, approach trials), ``cli`` (the ``lupin`` command, one module per command group) and
+``bench`` (the benchmark harness, one module per group). The patrol mission arrives beside them.
 """

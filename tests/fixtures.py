@@ -22,7 +22,7 @@ from hw.estop import EStopBridge
 from hw.interfaces import DeviceError
 from hw.twist_mux import TwistMux
 from sim.clock import SimClock
-from mission.scheduler import Scheduler
+from mission.runtime.scheduler import Scheduler
 
 
 class FakeWheels:
@@ -183,8 +183,8 @@ def open_floor(spawn=(3.0, 3.0, 0.0), size=(8.0, 6.0)):
 
 def assemble(world, seed: int = 0, **env):
     """A sim runtime (MuJoCo robot + hardware services, scheduled) -> (SimRobot, Robot)."""
-    from mission.config import load_config
-    from mission.sim_runtime import start_sim_runtime
+    from mission.runtime.config import load_config
+    from mission.runtime.sim_runtime import start_sim_runtime
 
     rt = start_sim_runtime(world, load_config(env={"LUPIN_SIM__SEED": str(seed), **env}))
     return rt.sim, rt.robot

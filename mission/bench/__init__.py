@@ -19,7 +19,7 @@ from typing import Callable
 import numpy as np
 
 from hw.errors import InputError
-from mission.config import LupinConfig
+from mission.runtime.config import LupinConfig
 
 
 @dataclass

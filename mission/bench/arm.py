@@ -5,8 +5,8 @@ import time
 
 from arm.aim import CameraAim, sample_reachable_targets
 from mission.bench import Sample, benchmark
-from mission.config import LupinConfig
-from mission.sim_runtime import start_sim_runtime
+from mission.runtime.config import LupinConfig
+from mission.runtime.sim_runtime import start_sim_runtime
 from sim.world import Floor, Pose2, World
 
 IK_TARGETS = 200

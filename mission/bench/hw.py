@@ -22,7 +22,7 @@ from hw.drivers.hiwonder import HiwonderBus
 from hw.drivers.rplidar_protocol import ScanParser, encode_nodes
 from hw.emulators.hiwonder_bus import HiwonderBusEmulator
 from mission.bench import Sample, benchmark
-from mission.config import LupinConfig
+from mission.runtime.config import LupinConfig
 
 C1_SAMPLES_PER_S = 5000
 POINTS, REVS, CHUNK = 500, 10, 512

@@ -5,9 +5,9 @@ import time
 
 import numpy as np
 
-from mission.approach_trials import run_world
+from mission.jobs.approach_trials import run_world
 from mission.bench import Sample, benchmark
-from mission.config import LupinConfig
+from mission.runtime.config import LupinConfig
 
 WORLDS, POTS_PER_WORLD = 10, 5
 

@@ -17,7 +17,7 @@ import numpy as np
 
 from hw.interfaces import LidarScan
 from mission.bench import Sample, benchmark, time_ms
-from mission.config import LupinConfig
+from mission.runtime.config import LupinConfig
 from nav.costmap.grid import FREE, LETHAL, UNKNOWN, CostGrid
 from nav.costmap.inflation import InflationLayer
 from nav.costmap.layered import local_costmap

@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from mission.bench import Sample, benchmark, time_ms
-from mission.config import LupinConfig
+from mission.runtime.config import LupinConfig
 from nav.costmap.layered import local_costmap
 from nav.mppi.controller import MppiController
 from sim.backend import SimRobot

@@ -32,7 +32,7 @@ import numpy as np
 
 from arm.presets import preset
 from mission.bench import Sample, benchmark
-from mission.config import LupinConfig
+from mission.runtime.config import LupinConfig
 from perception.evaluation import rotation_error, score_flowers, score_tags
 from perception.flower_detector import FlowerDetector
 from perception.tag_reader import TagReader

@@ -6,8 +6,8 @@ import time
 import numpy as np
 
 from mission.bench import Sample, benchmark
-from mission.config import LupinConfig, with_seed
-from mission.drive_job import start_drive
+from mission.runtime.config import LupinConfig, with_seed
+from mission.jobs.drive import start_drive
 from sim.backend import SimRobot
 from sim.world import load_default_world
 

@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from arm.presets import preset
-from mission.config import load_config
-from mission.sim_runtime import start_sim_runtime
+from mission.runtime.config import load_config
+from mission.runtime.sim_runtime import start_sim_runtime
 from sim.world import load_default_world
 
 

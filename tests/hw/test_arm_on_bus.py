@@ -11,7 +11,7 @@ from hw.drivers.hiwonder import HiwonderBus
 from hw.drivers.hiwonder_protocol import Cmd
 from hw.emulators.hiwonder_bus import EmuServo, HiwonderBusEmulator
 from hw.wall_clock import WallClock
-from mission.scheduler import Scheduler
+from mission.runtime.scheduler import Scheduler
 
 SERVOS = ServoBusConfig()
 IDS = {j: c.id for j, c in SERVOS.joints.items()}

@@ -11,8 +11,8 @@ from hw.drivers.led_strip import decode_spi
 from hw.errors import InputError
 from hw.interfaces import Twist
 from hw.leds import PALETTE, to_wire
-from mission.config import LupinConfig
-from mission.robot import build_robot
+from mission.runtime.config import LupinConfig
+from mission.runtime.robot import build_robot
 from tests.hw.emulated import emulated_robot
 
 FORWARD_A = {"front_left": 2, "front_right": 1, "rear_left": 6, "rear_right": 5}

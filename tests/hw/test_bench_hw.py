@@ -1,6 +1,6 @@
 """The hw benchmarks run and report their figures (values are machine-dependent: not asserted)."""
 from mission.bench import BENCHMARKS, summarise
-from mission.config import LupinConfig
+from mission.runtime.config import LupinConfig
 import mission.bench.hw  # noqa: F401  (registers the group)
 
 

@@ -3,7 +3,7 @@ import json
 
 import pytest
 
-import mission.hw_commands as hwc
+import mission.cli.hw as hwc
 from hw.drivers.led_strip import decode_spi
 from hw.emulators.gpio import EmulatedLineRequest
 from hw.emulators.hiwonder_bus import EmuServo, HiwonderBusEmulator

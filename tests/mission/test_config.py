@@ -3,7 +3,7 @@ import pytest
 import yaml
 
 from hw.errors import InputError
-from mission.config import LupinConfig, load_config, save_config
+from mission.runtime.config import LupinConfig, load_config, save_config
 
 
 def test_defaults_are_the_seed_numbers():

@@ -5,8 +5,8 @@ import math
 import yaml
 
 from mission.cli import main
-from mission.config import load_config
-from mission.drive_job import drive
+from mission.runtime.config import load_config
+from mission.jobs.drive import drive
 from sim.world import dump_world, load_default_world
 
 

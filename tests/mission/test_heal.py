@@ -4,8 +4,8 @@ import pytest
 from arm.presets import preset
 from hw.controller_manager import ControllerState, ControllerTransitionError
 from mission.cli import main
-from mission.heal import ACTIONS, boot_heal, heal_controllers
-from mission.heal_command import sim_boot_race
+from mission.runtime.heal import ACTIONS, boot_heal, heal_controllers
+from mission.cli.heal import sim_boot_race
 from tests.fixtures import assemble, open_floor
 
 NAMES = ("joint_state_broadcaster", "pid_wheels_controller", "mirte_master_arm_controller",

@@ -2,7 +2,7 @@
 import pytest
 
 from sim.clock import SimClock
-from mission.scheduler import Scheduler
+from mission.runtime.scheduler import Scheduler
 
 
 def test_tasks_run_at_their_rates_in_registration_order():

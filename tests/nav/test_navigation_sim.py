@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from hw.odometry import Pose2D
-from mission.config import load_config
-from mission.navigate_job import start_navigate
+from mission.runtime.config import load_config
+from mission.jobs.navigate import start_navigate
 from sim.world import Floor, Obstacle, Pose2, World, load_default_world
 from tests.fixtures import open_floor
 
@@ -135,7 +135,7 @@ def test_cancel_zeroes_auto_within_one_control_tick():
 
 @pytest.mark.slow
 def test_fifty_pot_approaches_in_generated_greenhouses():
-    from mission.approach_trials import run_trials
+    from mission.jobs.approach_trials import run_trials
 
     results = run_trials(load_config(env={}), worlds=10, pots_per_world=5)
     assert len(results) == 50

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from pydantic import ValidationError
 
-from mission.config import load_config
+from mission.runtime.config import load_config
 from perception.config import CameraModelConfig, PerceptionConfig
 
 

@@ -11,7 +11,7 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 from mission.bench.perception import evaluate, render_shots  # noqa: E402
-from mission.config import LupinConfig  # noqa: E402
+from mission.runtime.config import LupinConfig  # noqa: E402
 
 SEED, SHOTS = 1, 16
 

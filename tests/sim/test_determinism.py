@@ -1,8 +1,8 @@
 """Same seed, same trajectory; another seed, another (slightly) different one."""
 import numpy as np
 
-from mission.drive_job import start_drive
-from mission.config import load_config
+from mission.jobs.drive import start_drive
+from mission.runtime.config import load_config
 from sim.world import load_default_world
 
 

@@ -7,8 +7,8 @@ import math
 
 import pytest
 
-from mission.drive_job import drive
-from mission.config import load_config
+from mission.jobs.drive import drive
+from mission.runtime.config import load_config
 from tests.fixtures import open_floor
 
 

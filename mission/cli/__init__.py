@@ -21,10 +21,10 @@ except ImportError:  # pragma: no cover
 from hw.errors import InputError
 from hw.interfaces import DeviceError
 from mission import bench as bench_mod
-from mission.detect_command import detect
-from mission.heal_command import heal
-from mission.hw_commands import hw_app
-from mission.sim_commands import run_config, sim_app
+from mission.cli.detect import detect
+from mission.cli.heal import heal
+from mission.cli.hw import hw_app
+from mission.cli.sim import run_config, sim_app
 
 app = typer.Typer(
     name="lupin",

@@ -1,4 +1,4 @@
-"""`lupin heal [--backend sim|hw]`: the boot one-shot (spec/cli.md, mission/heal.py).
+"""`lupin heal [--backend sim|hw]`: the boot one-shot (spec/cli.md, mission/runtime/heal.py).
 
 Exit 0 healed and homed, 1 when a controller did not reach active (or the arm did not park),
 0 with a loud message when the controller states could not be read at all; with
@@ -22,8 +22,8 @@ import typer
 
 from hw.controller_manager import ControllerManager, ControllerState
 from hw.errors import InputError
-from mission.config import LupinConfig
-from mission.heal import AUTO_HOME_ENV, HealReport, auto_home_enabled, boot_heal
+from mission.runtime.config import LupinConfig
+from mission.runtime.heal import AUTO_HOME_ENV, HealReport, auto_home_enabled, boot_heal
 
 BROKEN = (ControllerState.MISSING, ControllerState.UNCONFIGURED, ControllerState.INACTIVE)
 
@@ -43,7 +43,7 @@ def sim_boot_race(names: tuple[str, ...], seed: int) -> dict[str, ControllerStat
 
 
 def _sim_runtime(config: LupinConfig):
-    from mission.sim_runtime import start_sim_runtime
+    from mission.runtime.sim_runtime import start_sim_runtime
     from sim.world import load_default_world
 
     rt = start_sim_runtime(load_default_world(), config)
@@ -59,7 +59,7 @@ def _hw_runtime(config: LupinConfig):
     backend_cls = getattr(importlib.import_module("hw.backend"), "HwBackend", None)
     if backend_cls is None:
         raise InputError("lupin heal --backend hw: hardware backend not available (hw.backend has no HwBackend)")
-    from mission.robot import build_robot
+    from mission.runtime.robot import build_robot
 
     backend = backend_cls(config.hw)
     robot = build_robot(config, backend.hal, ControllerManager(config.hw.controllers))
@@ -91,7 +91,7 @@ def heal(
     backend: Backend = typer.Option(Backend.sim, "--backend", help="sim (the MuJoCo greenhouse) or hw (the robot)."),
 ) -> int:
     """Heal the five controllers to active, then park the arm at home (boot one-shot)."""
-    from mission.sim_commands import run_config
+    from mission.cli.sim import run_config
 
     if not auto_home_enabled(os.environ):
         typer.echo(f"{AUTO_HOME_ENV}=false: heal and home skipped")

@@ -27,8 +27,8 @@ from hw.estop import EStopBridge
 from hw.interfaces import Hal
 from hw.leds import LedStatus, pick_state
 from hw.twist_mux import TwistMux
-from mission.config import LupinConfig
-from mission.scheduler import Scheduler
+from mission.runtime.config import LupinConfig
+from mission.runtime.scheduler import Scheduler
 
 log = logging.getLogger("lupin")
 

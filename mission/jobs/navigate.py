@@ -12,9 +12,9 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 from hw.odometry import Pose2D
-from mission.config import LupinConfig
-from mission.navigation import attach_navigation
-from mission.sim_runtime import SimRuntime, start_sim_runtime
+from mission.runtime.config import LupinConfig
+from mission.runtime.navigation import attach_navigation
+from mission.runtime.sim_runtime import SimRuntime, start_sim_runtime
 from nav.frames import compose, inverse, yaw_error
 from nav.navigator import Navigator
 from sim.world import World

@@ -7,7 +7,7 @@ through the same arbitration and e-stop as a human.
 """
 from __future__ import annotations
 
-from mission.robot import Robot
+from mission.runtime.robot import Robot
 from nav.costmap.layered import global_costmap, local_costmap
 from nav.localisation import Localisation, OdometryOnly
 from nav.mppi.controller import MppiController

@@ -9,9 +9,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from hw.interfaces import Twist
-from mission.config import LupinConfig
-from mission.route import ROUTES, MoveResult, RouteDriver
-from mission.sim_runtime import SimRuntime, start_sim_runtime
+from mission.runtime.config import LupinConfig
+from mission.jobs.route import ROUTES, MoveResult, RouteDriver
+from mission.runtime.sim_runtime import SimRuntime, start_sim_runtime
 from sim.world import World
 
 LIDAR_RATE = 10.0

@@ -34,7 +34,7 @@ from hw.errors import InputError
 from hw.interfaces import WHEELS, DeviceError
 from hw.leds import PALETTE, to_wire
 from hw.wall_clock import WallClock
-from mission.sim_commands import run_config
+from mission.cli.sim import run_config
 
 open_i2c = open_bus
 gpio_request = request_inputs

@@ -10,8 +10,8 @@ from typing import Optional
 import typer
 
 from hw.errors import InputError
-from mission.config import LupinConfig, load_config, save_config, with_seed
-from mission.route import ROUTES
+from mission.runtime.config import LupinConfig, load_config, save_config, with_seed
+from mission.jobs.route import ROUTES
 
 sim_app = typer.Typer(help="The simulated greenhouse.", no_args_is_help=True)
 
@@ -86,8 +86,8 @@ def drive(
         raise InputError(f"--route {route!r}: unknown route; known: {', '.join(ROUTES)}")
     config = run_config(ctx) if seed is None else with_seed(run_config(ctx), seed)
     w = _world(world)
-    from mission.drive_job import drive as run_drive
-    from mission.drive_report import format_results, results_json
+    from mission.jobs.drive import drive as run_drive
+    from mission.jobs.drive_report import format_results, results_json
 
     run = run_drive(w, config, route)
     print(format_results(run))
@@ -137,8 +137,8 @@ def navigate(
     import time
 
     from hw.odometry import Pose2D
-    from mission.navigate_job import start_navigate
-    from mission.nav_picture import draw_run, write_picture
+    from mission.jobs.navigate import start_navigate
+    from mission.jobs.nav_picture import draw_run, write_picture
     from sim.world_checks import robot_circle_problems
 
     goal = Pose2D(*parse_pose(to, "--to"))

@@ -14,8 +14,8 @@ import random
 from dataclasses import dataclass
 
 from hw.odometry import Pose2D
-from mission.config import LupinConfig, with_seed
-from mission.navigate_job import start_navigate
+from mission.runtime.config import LupinConfig, with_seed
+from mission.jobs.navigate import start_navigate
 from sim.generate import generate_world
 
 STANDOFF = 0.5

@@ -4,8 +4,8 @@ from __future__ import annotations
 import math
 
 from hw.odometry import Pose2D
-from mission.drive_job import DriveRun
-from mission.route import relative
+from mission.jobs.drive import DriveRun
+from mission.jobs.route import relative
 
 
 def _pct(err: float, ref: float) -> str:

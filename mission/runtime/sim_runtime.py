@@ -10,8 +10,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from hw.controller_manager import ControllerManager
-from mission.config import LupinConfig
-from mission.robot import Robot, build_robot
+from mission.runtime.config import LupinConfig
+from mission.runtime.robot import Robot, build_robot
 from sim.backend import SimRobot
 from sim.world import World
 
