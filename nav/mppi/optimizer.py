@@ -54,17 +54,20 @@ class Optimizer:
         """Forget the warm start (new goal, cancel, recovery, or all trajectories colliding)."""
         self.u = np.zeros((self.config.time_steps, 3), dtype=np.float32)
         self.history = np.zeros((HISTORY, 3), dtype=np.float32)
+        self.applied = self.u
 
     @property
     def trajectories(self) -> np.ndarray:
         """The last cycle's sampled trajectories, (3, B, T) x, y, yaw."""
         return self._traj
 
-    def optimal_trajectory(self, pose, velocity) -> np.ndarray:
-        """The current control sequence rolled out from ``pose``: (T, 3) x, y, yaw."""
-        v, traj = np.empty((3, 1, self.config.time_steps), np.float32), np.empty((3, 1, self.config.time_steps), np.float32)
-        self.model.rollout(self.u.T[:, None, :].copy(), np.asarray(velocity, np.float32), pose, v, traj)
-        return traj[:, 0, :].T
+    def rollout_sequence(self, u: np.ndarray, pose, velocity) -> np.ndarray:
+        """A (T, 3) control sequence rolled out from ``pose`` and ``velocity``: (T, 3) x, y, yaw."""
+        t = self.config.time_steps
+        v, traj = np.empty((3, 1, t), np.float32), np.empty((3, 1, t), np.float32)
+        self.model.rollout(np.ascontiguousarray(u.T[:, None, :], dtype=np.float32),
+                           np.asarray(velocity, np.float32), pose, v, traj)
+        return traj[:, 0, :].T.copy()
 
     def cycle(self, pose, velocity, path: np.ndarray, goal, grid: CostGrid) -> np.ndarray:
         """One control cycle; returns the (vx, vy, wz) command."""
@@ -84,6 +87,7 @@ class Optimizer:
         u = savitzky_golay(self.u, self.history)
         u = enforce_limits(u, self.model.lo, self.model.hi, self.model.acc, c.model_dt, v0)
         command = u[0].copy()
+        self.applied = u  # the sequence the command came from, before the shift (for drawing)
         self.history = np.vstack([self.history[1:], command])
         self.u = np.vstack([u[1:], u[-1:]])
         if c.regenerate_noises:

@@ -157,3 +157,27 @@ def test_obstacles_critic_treats_off_map_and_inscribed_as_collision():
     s = scores(c, data_for([line_traj(vx=0.5), line_traj(vy=0.1)], grid=grid, goal=(0.3, 0.0, 0.0)))
     assert s[0] >= 20.0 * 10000.0  # leaves the 1 x 1 m map
     assert s[1] == 0.0
+
+
+def test_path_align_is_the_mean_offset_from_the_path():
+    c = PathAlignCritic(CFG.critic.path_align, CM)
+    path = np.column_stack([straight_path((0.0, 0.0), (3.0, 0.0)), np.zeros(61)])
+    for off in (0.1, -0.2):  # a robot beside the path driving parallel to it
+        s = scores(c, data_for([line_traj(vx=0.5, y0=off)], path=path, goal=(3.0, 0.0, 0.0), pose=(0.0, off, 0.0)))
+        assert s[0] == pytest.approx(14.0 * abs(off), abs=1e-3)  # weight x offset
+
+
+def test_obstacles_critic_adds_critical_and_repulsion_terms_and_drops_repulsion_near_the_goal():
+    grid = dummy_costmap(120, 120, origin=(-3.0, -3.0))
+    cost = 230
+    grid.data[60, 60] = cost  # the cell at (0, 0)
+    d = math.log(253.0 / cost) / CM.cost_scaling_factor  # distance past the footprint
+    p = CFG.critic.obstacles
+    parked, free = line_traj(x0=0.01, y0=0.01), line_traj(x0=1.01, y0=0.01)
+    far = scores(ObstaclesCritic(p, CM), data_for([parked, free], grid=grid, goal=(2.0, 0.0, 0.0)))
+    critical = p.critical_weight * T * (p.collision_margin_distance - d)
+    repulsion = p.repulsion_weight * T * (CM.inflation_radius - d) / T
+    assert far[1] == 0.0
+    assert far[0] == pytest.approx(critical + repulsion, rel=1e-4)
+    near = scores(ObstaclesCritic(p, CM), data_for([parked, free], grid=grid, goal=(0.3, 0.0, 0.0)))
+    assert near[0] == pytest.approx(critical, rel=1e-4)

@@ -12,7 +12,7 @@ from nav.costmap.config import CostmapsConfig
 from nav.costmap.grid import LETHAL
 from nav.mppi.config import MppiConfig
 from nav.mppi.controller import MppiController, NoValidControl
-from nav.mppi.smoothing import SG, savitzky_golay
+from nav.mppi.smoothing import SG, enforce_limits, savitzky_golay
 from nav.config import NavConfig
 from tests.nav.builders import dummy_costmap, straight_path
 
@@ -120,3 +120,28 @@ def test_savitzky_golay_keeps_a_constant_and_a_ramp():
     ramp = np.repeat(np.arange(60, dtype=np.float32)[:, None] * 0.01, 3, axis=1)
     out = savitzky_golay(ramp[4:56 + 4 - 4], ramp[:4])
     assert np.allclose(out[:40], ramp[4:44], atol=1e-5)  # quadratic fit is exact on a line
+
+
+def test_trajectories_for_drawing_and_reset():
+    grid = open_grid()
+    path = np.column_stack([straight_path((0, 0), (2, 0)), np.zeros(41)])
+    ctrl = mppi()
+    assert ctrl.optimal_trajectory is None
+    for _ in range(10):
+        ctrl.compute((0, 0, 0), (0.3, 0, 0), path, (2, 0, 0), grid)
+    opt, samples = ctrl.optimal_trajectory, ctrl.sampled_trajectories
+    assert opt.shape == (56, 3) and samples.shape == (16, 56, 3)
+    assert opt[-1, 0] > 0.5 and abs(opt[-1, 1]) < 0.2  # heads down the path
+    assert not np.allclose(samples[0], samples[1])
+    ctrl.reset()
+    assert ctrl.optimal_trajectory is None and not ctrl.optimizer.u.any()
+
+
+def test_enforce_limits_walks_the_acceleration_limit_from_the_current_velocity():
+    lo, hi = np.array([-0.35, -0.5, -1.9], np.float32), np.array([0.5, 0.5, 1.9], np.float32)
+    acc = np.array([2.5, 2.5, 3.2], np.float32)
+    u = np.tile(np.array([[1.0, -1.0, 0.0]], np.float32), (56, 1))
+    out = enforce_limits(u, lo, hi, acc, 0.05, np.zeros(3, np.float32))
+    assert out[0] == pytest.approx([0.125, -0.125, 0.0])  # one step of 2.5 m/s^2 x 0.05 s
+    assert out[3] == pytest.approx([0.5, -0.5, 0.0])  # then the velocity limit
+    assert np.all(np.abs(np.diff(out, axis=0)) <= acc * 0.05 + 1e-6)

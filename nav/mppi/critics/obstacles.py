@@ -7,9 +7,10 @@ Per trajectory point, the cost of the costmap cell under the robot's centre:
   Nav2 counts no information as collision): the whole trajectory costs ``collision_cost``;
 - otherwise the inflated cost is turned back into a distance to the obstacle past the
   footprint, inverting the inflation formula ``cost = 252 exp(-k (d - r))``; closer than
-  ``collision_margin_distance`` (0.10 m) adds ``margin - d`` (critical), farther adds a
-  repulsion ``inflation_radius - d`` unless the robot is within 0.5 m of the goal (approach
-  poses sit near pots);
+  ``collision_margin_distance`` (0.10 m) adds ``margin - d`` (critical), and every such point
+  adds a repulsion ``inflation_radius - d`` unless the robot is within 0.5 m of the goal
+  (approach poses sit near pots). With the seed's thin halo (0.25 m, k 5.0) every inflated
+  cell is within 0.03 m of the footprint, so both terms apply to all of them;
 - free cells (0) add nothing.
 
 Total: ``critical_weight * critical + repulsion_weight * (rep - min rep) / T`` (reference).
@@ -37,7 +38,7 @@ class ObstaclesCritic(Critic):
         dist = np.where(inflated, (np.log(253.0) - np.log(np.maximum(c, 1.0))) / k, np.inf)
         margin = params.collision_margin_distance
         self._critical = np.where(inflated & (dist < margin), margin - dist, 0.0).astype(np.float32)
-        self._repulsion = np.where(inflated & (dist >= margin), costmaps.inflation_radius - dist, 0.0).astype(np.float32)
+        self._repulsion = np.where(inflated, costmaps.inflation_radius - dist, 0.0).astype(np.float32)
         self._collides = np.zeros(256, dtype=bool)
         self._collides[[INSCRIBED, LETHAL, UNKNOWN]] = True
 
