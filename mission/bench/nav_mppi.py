@@ -3,8 +3,14 @@
 The local costmap is the real one: a 3 x 3 m window around the robot in the built-in
 greenhouse's south aisle, marked from a MuJoCo lidar scan and inflated with the seed's values;
 the plan runs along the aisle. ``fraction_of_period`` is the median over the 50 ms control
-period. ``numpy_rollout_ms`` times the rollout (the one sequential step) as a numpy loop over
-the 56 steps, beside ``numba_rollout_ms``: the figure that justifies numba.
+period. The controller is warmed up to its steady state first (60 cycles: the warm-started
+sequence reaches 20 path points, so PathAlign scores). Far from the goal the path critics run and
+the goal critics are off; ``near_goal_median_ms`` is the same cycle 1 m from the goal, where
+the goal critics run instead (Nav2's thresholds make the two sets exclusive: no cycle runs all
+eight). ``critic_ms`` is each critic's median in the far case (what to optimise next), with the
+shared furthest-reached path index (computed once per cycle) on its own line.
+``numpy_rollout_ms`` times the rollout (the one sequential step) as a numpy loop over the 56
+steps, beside ``numba_rollout_ms``: the figure that justifies numba.
 """
 from __future__ import annotations
 
@@ -16,11 +22,15 @@ from mission.bench import Sample, benchmark, time_ms
 from mission.runtime.config import LupinConfig
 from nav.costmap.layered import local_costmap
 from nav.mppi.controller import MppiController
+from nav.mppi.critic_data import CriticData
 from sim.backend import SimRobot
 from sim.world import load_default_world
 
 CYCLES = 200
+WARMUP = 60
 POSE = (3.0, 0.5, 0.0)
+FAR_GOAL = (5.5, 0.5, -math.pi / 2)  # 2.5 m down the aisle: path critics on, goal critics off
+NEAR_GOAL = (4.0, 0.5, -math.pi / 2)  # 1 m: goal critics on, PathFollow off
 
 
 def _numpy_rollout(model, cv, v0, pose):
@@ -51,26 +61,41 @@ def mppi_cycle(config: LupinConfig) -> Sample:
     costmap = local_costmap(cfg.costmap)
     mx, my, _ = cfg.navigator.lidar_mount
     costmap.update(scan, (POSE[0] + mx, POSE[1] + my, POSE[2]), POSE[:2])
-    xs = np.arange(POSE[0], POSE[0] + 1.45, 0.05)
-    path = np.column_stack([xs, np.full_like(xs, POSE[1]), np.zeros_like(xs)])
-    goal = (5.5, 0.5, -math.pi / 2)
-    ctrl = MppiController(cfg.mppi, cfg.costmap)
+    grid = costmap.grid
+    v0 = (0.3, 0.0, 0.0)
 
-    def cycle():
-        ctrl.compute(POSE, (0.3, 0.0, 0.0), path, goal, costmap.grid)
+    def controller_for(goal):
+        xs = np.arange(POSE[0], goal[0] + 0.025, 0.05)
+        path = np.column_stack([xs, np.full_like(xs, POSE[1]), np.full_like(xs, goal[2])])  # as the Omni model sees it
+        ctrl = MppiController(cfg.mppi, cfg.costmap)
+        cycle = lambda: ctrl.compute(POSE, v0, path, goal, grid)  # noqa: E731
+        for _ in range(WARMUP):
+            cycle()  # numba loads its cache; the warm-started sequence reaches its steady state
+        return ctrl, cycle, path
 
-    for _ in range(5):
-        cycle()  # warm-up: numba loads its cache, the sequence warms up
+    ctrl, cycle, path = controller_for(FAR_GOAL)
     times = time_ms(cycle, CYCLES, warmup=0)
     opt = ctrl.optimizer
+    def critic_data():
+        return CriticData(np.asarray(POSE, np.float32), opt._v, opt._traj, path, np.asarray(FAR_GOAL, np.float32),
+                          grid, cfg.mppi.model_dt, np.zeros(cfg.mppi.batch_size, np.float32))
+
+    data = critic_data()
+    critic_ms = {name: round(float(np.median(time_ms(lambda c=critic: c.score(data), 50, warmup=1))), 3)
+                 for name, critic in zip(cfg.mppi.critics, opt.critics)}
+    critic_ms["furthest_reached"] = round(float(np.median(time_ms(lambda: critic_data().furthest_reached, 50))), 3)
     cv = opt.u.T[:, None, :] + opt._noise
-    v0 = np.array([0.3, 0.0, 0.0], np.float32)
-    numba_ms = time_ms(lambda: opt.model.rollout(cv, v0, POSE, opt._v, opt._traj), 50, warmup=0)
-    numpy_ms = time_ms(lambda: _numpy_rollout(opt.model, cv, v0, POSE), 20, warmup=0)
+    v = np.asarray(v0, np.float32)
+    numba_ms = time_ms(lambda: opt.model.rollout(cv, v, POSE, opt._v, opt._traj), 50, warmup=0)
+    numpy_ms = time_ms(lambda: _numpy_rollout(opt.model, cv, v, POSE), 20, warmup=0)
+    _, near_cycle, _ = controller_for(NEAR_GOAL)
+    near_ms = time_ms(near_cycle, CYCLES // 2, warmup=0)
     median = float(np.median(times))
     return Sample(times, {
         "batch": cfg.mppi.batch_size, "time_steps": cfg.mppi.time_steps, "critics": len(cfg.mppi.critics),
         "fraction_of_period": round(median / (1000.0 / cfg.mppi.frequency), 3),
+        "near_goal_median_ms": round(float(np.median(near_ms)), 3),
+        "critic_ms": critic_ms,
         "numba_rollout_ms": round(float(np.median(numba_ms)), 3),
         "numpy_rollout_ms": round(float(np.median(numpy_ms)), 3),
     })
