@@ -24,8 +24,9 @@ def mppi(**over) -> MppiController:
     return MppiController(cfg, CM)
 
 
-def drive(ctrl, goal, grid, start=(0.0, 0.0, 0.0), steps=400, path=None):
-    """Integrate each command for one 50 ms period; stop inside 0.25 m / 0.12 rad at rest."""
+def drive(ctrl, goal, grid, start=(0.0, 0.0, 0.0), steps=400, path=None, lag=0.0):
+    """Integrate each command for one 50 ms period; stop inside 0.25 m / 0.12 rad at rest.
+    ``lag`` > 0 is a first-order base lag (time constant in s) between command and velocity."""
     x, y, yaw = start
     v = np.zeros(3)
     poses = [(x, y, yaw)]
@@ -34,7 +35,7 @@ def drive(ctrl, goal, grid, start=(0.0, 0.0, 0.0), steps=400, path=None):
     for _ in range(steps):
         ahead = path[int(np.argmin(np.hypot(path[:, 0] - x, path[:, 1] - y))):]  # pruned, as the navigator does
         cmd = np.array(ctrl.compute((x, y, yaw), tuple(v), ahead if len(ahead) > 1 else path[-2:], goal, grid))
-        v = cmd
+        v = cmd if lag == 0.0 else v + (cmd - v) * (1.0 - math.exp(-0.05 / lag))
         x += (v[0] * math.cos(yaw) - v[1] * math.sin(yaw)) * 0.05
         y += (v[0] * math.sin(yaw) + v[1] * math.cos(yaw)) * 0.05
         yaw += v[2] * 0.05
@@ -60,6 +61,20 @@ def test_omni_strafes_to_a_goal_beside_it(side):
     poses, ok = drive(mppi(), (0.0, side, 0.0), open_grid())
     assert ok
     assert np.max(np.abs(poses[:, 2])) < 0.1
+
+
+def test_omni_strafe_survives_a_lagging_base():
+    poses, ok = drive(mppi(), (0.0, 1.0, 0.0), open_grid(), lag=0.1)
+    assert ok
+    assert np.max(np.abs(poses[:, 2])) < 0.1
+
+
+def test_lateral_speeds_below_the_threshold_read_as_zero():
+    grid = open_grid()
+    path = np.column_stack([straight_path((0, 0), (0, 1)), np.zeros(21)])
+    out = [mppi().compute((0, 0, 0), (0.0, vy, 0.0), path, (0, 1, 0), grid) for vy in (0.0, 0.0009, 0.3)]
+    assert out[0] == out[1]  # 0.0009 < min_y_velocity_threshold 0.001
+    assert out[2] != out[0]  # a real strafe is the rollout's starting velocity
 
 
 def test_left_and_right_are_mirror_images():
