@@ -83,6 +83,13 @@ class NavigatorConfig(Strict):
     the plan, only the costmap says which way is clear)."""
     backoff_time: float = Field(1.0, gt=0)
     """Recovery back-off duration, s (0.10 m at the default speed)."""
+    progress_radius: float = Field(0.5, gt=0)
+    """The robot must move this far from its last checkpoint within ``progress_time`` or the
+    goal fails for lack of progress, m (Nav2's SimpleProgressChecker required_movement_radius
+    0.5): a robot stalled short of a goal it cannot reach reports it instead of waiting out
+    the timeout."""
+    progress_time: float = Field(10.0, gt=0)
+    """Seconds allowed to make that progress (Nav2's movement_time_allowance 10.0)."""
     lidar_mount: tuple[float, float, float] = (0.115, 0.0, 0.0)
     """Lidar pose in base_link (x, y, yaw): the MIRTE model's lidar post (sim model README)."""
 

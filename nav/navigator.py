@@ -15,8 +15,8 @@ Frames (REP-105): goals, plans and the global costmap live in ``map``; the local
 MPPI in ``odom``, reached through the localisation's ``map -> odom``. Ground truth is never
 an input.
 
-Outcomes are ``succeeded``, ``failed(reason)`` (timeout, no path, no valid control after the
-bounded recoveries) or ``canceled``. A cancel, and an e-stop (which cancels the goal: the seed's
+Outcomes are ``succeeded``, ``failed(reason)`` (timeout, no path, no progress for 10 s as
+Nav2's progress checker, no valid control after the bounded recoveries) or ``canceled``. A cancel, and an e-stop (which cancels the goal: the seed's
 e-stop was decorative until it did), publishes a zero twist on ``auto`` at once, so the base
 drives zero from its next tick; after a release nothing restarts by itself: whoever sent the
 goal decides (ISO 13850 practice).
@@ -132,6 +132,7 @@ class Navigator:
         self._recoveries = self._replans = self._plan_failures = 0
         self._backoff_until = 0.0
         self._backoff = ZERO_TWIST
+        self._checkpoint: tuple[Pose2D, float] | None = None
 
     # -- the goal API --------------------------------------------------------------------------
 
@@ -146,6 +147,7 @@ class Navigator:
         self._start, self._last_control = now, now
         self._deadline = now + (timeout if timeout is not None else self.config.navigator.default_timeout)
         self._recoveries = self._replans = self._plan_failures = 0
+        self._checkpoint = None
         self.path = None
         self.goal_checker.reset()
         self.controller.reset()
@@ -188,6 +190,10 @@ class Navigator:
         if self.goal_checker.reached(pose, self.goal, self.io.odom_twist()):
             self._finish(State.SUCCEEDED, "", now)
             return
+        if not self._progressing(pose, now):
+            self._finish(State.FAILED, f"no progress: moved less than {self.config.navigator.progress_radius} m "
+                         f"in {self.config.navigator.progress_time:g} s, {distance(pose, self.goal):.2f} m from the goal", now)
+            return
         if self.state is State.RECOVERING:
             self._recover(now, dt)
             return
@@ -198,6 +204,14 @@ class Navigator:
         self._follow(pose, now, dt)
 
     # -- the pieces ----------------------------------------------------------------------------
+
+    def _progressing(self, pose: Pose2D, now: float) -> bool:
+        """Nav2's SimpleProgressChecker: moving ``progress_radius`` from the last checkpoint
+        renews it; failing to within ``progress_time`` is no progress (recoveries renew it)."""
+        cfg = self.config.navigator
+        if self._checkpoint is None or distance(pose, self._checkpoint[0]) >= cfg.progress_radius:
+            self._checkpoint = (pose, now)
+        return now - self._checkpoint[1] <= cfg.progress_time
 
     def _update(self, costmap: Costmap, base: Pose2D) -> None:
         scan = self.io.scan()
@@ -269,6 +283,7 @@ class Navigator:
         self.local_costmap.clear()
         self.smoother.reset()
         self._backoff_until = now + self.config.navigator.backoff_time
+        self._checkpoint = None
         self.state = State.RECOVERING
         self.io.publish(ZERO_TWIST, now)
 

@@ -126,3 +126,19 @@ def test_success_needs_the_robot_at_rest_inside_the_tolerances():
     assert rig.nav.state is State.SUCCEEDED
     fb = rig.nav.feedback(0.1)
     assert fb.state is State.SUCCEEDED and fb.distance_remaining < 0.15
+
+
+def test_a_robot_that_stops_short_fails_for_lack_of_progress_not_at_the_timeout():
+    rig = Rig()
+    rig.nav.navigate_to(Pose2D(2.0, 0.0, 0.0), 0.0, timeout=60.0)
+    t = rig.run(60.0)  # the fake base never moves
+    assert rig.nav.state is State.FAILED and rig.nav.reason.startswith("no progress")
+    assert "2.00 m from the goal" in rig.nav.reason
+    assert 10.0 <= t <= 10.5
+    rig.nav.navigate_to(Pose2D(2.0, 0.0, 0.0), 20.0, timeout=60.0)
+    for k in range(1, 400):  # now it creeps 0.1 m/s: 0.5 m every 5 s renews the checkpoint
+        rig.pose = Pose2D(0.0, -0.005 * k, 0.0)
+        rig.nav.tick_control(20.0 + 0.05 * k)
+        if not rig.nav.active:
+            break
+    assert rig.nav.state is State.FOLLOWING or rig.nav.reason.startswith("timeout")
