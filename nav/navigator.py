@@ -39,7 +39,7 @@ from hw.interfaces import ZERO_TWIST, LidarScan, Twist
 from hw.odometry import Pose2D
 from nav.config import NavConfig
 from nav.costmap.grid import INSCRIBED, UNKNOWN, CostGrid
-from nav.frames import compose, distance, inverse, transform_path
+from nav.frames import compose, distance, inverse, transform_path, transform_points
 from nav.goal_checker import GoalChecker
 from nav.localisation import Localisation
 from nav.mppi.controller import NoValidControl
@@ -254,9 +254,7 @@ class Navigator:
     def _pruned_path(self, pose: Pose2D) -> np.ndarray:
         """The plan from the point nearest the robot on, with headings: the tangent along the
         way and the goal's yaw at the end (Nav2 hands MPPI the plan pruned the same way)."""
-        xy = self.path
-        start = int(np.argmin(np.hypot(xy[:, 0] - pose.x, xy[:, 1] - pose.y)))
-        xy = xy[start:]
+        xy = self._ahead(pose)
         if len(xy) < 2:
             xy = np.vstack([[pose.x, pose.y], [self.goal.x, self.goal.y]])
         d = np.diff(xy, axis=0)
@@ -269,7 +267,7 @@ class Navigator:
         """Does the plan cross a lethal or inscribed cell the local costmap sees now?"""
         grid = self.local_costmap.grid
         odom_from_map = inverse(self.localisation.map_to_odom())
-        pts = transform_path(odom_from_map, np.column_stack([self.path, np.zeros(len(self.path))]))
+        pts = transform_points(odom_from_map, self.path)
         cost = grid.cost_at(pts[:, 0], pts[:, 1], outside=0)
         return bool(np.any((cost >= INSCRIBED) & (cost != UNKNOWN)))
 
@@ -322,9 +320,13 @@ class Navigator:
         pose = self.map_pose()
         if self.path is None or len(self.path) < 2:
             return distance(pose, self.goal)
-        xy = self.path
-        start = int(np.argmin(np.hypot(xy[:, 0] - pose.x, xy[:, 1] - pose.y)))
-        return float(np.hypot(*np.diff(xy[start:], axis=0).T).sum()) + math.hypot(xy[start, 0] - pose.x, xy[start, 1] - pose.y)
+        xy = self._ahead(pose)
+        return float(np.hypot(*np.diff(xy, axis=0).T).sum()) + math.hypot(xy[0, 0] - pose.x, xy[0, 1] - pose.y)
+
+    def _ahead(self, pose: Pose2D) -> np.ndarray:
+        """The plan from the point nearest the robot on."""
+        start = int(np.argmin(np.hypot(self.path[:, 0] - pose.x, self.path[:, 1] - pose.y)))
+        return self.path[start:]
 
     def _finish(self, state: State, reason: str, now: float) -> None:
         self.state, self.reason = state, reason

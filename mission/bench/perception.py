@@ -31,8 +31,12 @@ import mujoco
 import numpy as np
 
 from arm.presets import preset
+from hw.odometry import Pose2D
+from mission.approach import STANDOFF
+from mission.approach import approach_pose as ideal_approach
 from mission.bench import Sample, benchmark
 from mission.runtime.config import LupinConfig
+from nav.frames import compose
 from perception.evaluation import rotation_error, score_flowers, score_tags
 from perception.flower_detector import FlowerDetector
 from perception.tag_reader import TagReader
@@ -44,7 +48,6 @@ from sim.world import World
 POTS = 240
 """Pots rendered by the benchmark (16 generated greenhouses of 15)."""
 ROWS, PER_ROW = 3, 5
-STANDOFF = 0.5
 """Approach standoff, m (spec/mission.md)."""
 XY_TOLERANCE, YAW_TOLERANCE = 0.25, 0.12
 """Goal tolerance the approach noise stays inside (seed: 0.25 m, 0.12 rad)."""
@@ -134,11 +137,8 @@ def render_shots(config: LupinConfig, count: int, seed: int) -> Iterator[Shot]:
 def approach_pose(pot, noise: tuple[float, float, float] = (0.0, 0.0, 0.0)) -> tuple[float, float, float]:
     """World pose of the robot at ``pot``'s approach pose (spec/mission.md) plus
     ``noise`` = (forward, left, yaw) in the robot's frame."""
-    fwd, left, dyaw = noise
-    heading = pot.facing + math.pi
-    x = pot.x + STANDOFF * math.cos(pot.facing) + fwd * math.cos(heading) - left * math.sin(heading)
-    y = pot.y + STANDOFF * math.sin(pot.facing) + fwd * math.sin(heading) + left * math.cos(heading)
-    return x, y, heading + dyaw
+    p = compose(ideal_approach(pot.x, pot.y, pot.facing, STANDOFF), Pose2D(*noise))
+    return p.x, p.y, p.yaw
 
 
 def _shot(sim: SimRobot, seg: mujoco.Renderer, jitter: LightingJitter, pot, rng, config) -> Shot:

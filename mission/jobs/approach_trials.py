@@ -9,24 +9,17 @@ ground truth is recorded beside it, for judging localisation, never for steering
 """
 from __future__ import annotations
 
-import math
 import random
 from dataclasses import dataclass
 
-from hw.odometry import Pose2D
 from mission.runtime.config import LupinConfig, with_seed
+from mission.approach import approach_pose
 from mission.jobs.navigate import start_navigate
+from nav.frames import distance, yaw_error
 from sim.generate import generate_world
 
-STANDOFF = 0.5
 ROWS, POTS_PER_ROW = 3, 5
 TIMEOUT_S = 60.0
-
-
-def approach_pose(x: float, y: float, facing: float, standoff: float = STANDOFF) -> Pose2D:
-    """Where the robot stands to inspect a pot (spec/mission.md)."""
-    yaw = math.remainder(facing + math.pi, 2 * math.pi)
-    return Pose2D(x + standoff * math.cos(facing), y + standoff * math.sin(facing), yaw)
 
 
 @dataclass(frozen=True)
@@ -57,8 +50,7 @@ def run_world(config: LupinConfig, world_seed: int, pots: int) -> list[Approach]
             belief = run.nav.map_pose()
             target = run.to_map(goal)
             out.append(Approach(world_seed, pot.id, outcome, run.nav.reason, run.now - t0,
-                                (math.hypot(belief.x - target.x, belief.y - target.y),
-                                 abs(math.remainder(belief.yaw - target.yaw, 2 * math.pi))),
+                                (distance(belief, target), yaw_error(belief, target)),
                                 run.truth_error(goal), len(run.bumps) > bumps))
     finally:
         run.close()

@@ -2,7 +2,6 @@
 MPPI -> smoother -> twist_mux -> wheel PID -> simulated motors. Truth judges, never steers."""
 from __future__ import annotations
 
-import math
 
 import numpy as np
 import pytest
