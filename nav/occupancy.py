@@ -1,0 +1,53 @@
+"""An occupancy grid as map_server knows it: the one map type SLAM, map files, AMCL and the
+global costmap's static layer share.
+
+Values follow ROS's OccupancyGrid: -1 unknown, 0 free ... 100 occupied, stored int8 with row
+``iy`` growing north (+y) and column ``ix`` growing east (+x); cell (0, 0) has its lower-left
+corner at ``origin``. Map files flip rows on disk (PGM's first row is the top); that is
+``nav.map_io``'s business, not this type's.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+UNKNOWN = -1
+FREE = 0
+OCCUPIED = 100
+
+
+@dataclass(frozen=True)
+class OccupancyMap:
+    occupancy: np.ndarray
+    """int8 [iy, ix]: -1 unknown, 0..100 probability of occupancy in percent."""
+    resolution: float
+    """Metres per cell (seed: 0.05)."""
+    origin_x: float
+    """Map-frame x of cell (0, 0)'s lower-left corner, m."""
+    origin_y: float
+    """Map-frame y of cell (0, 0)'s lower-left corner, m."""
+    origin_yaw: float = 0.0
+    """map_server's origin yaw; kept for round trips (Nav2 ignores it, so do we)."""
+
+    @property
+    def height(self) -> int:
+        return int(self.occupancy.shape[0])
+
+    @property
+    def width(self) -> int:
+        return int(self.occupancy.shape[1])
+
+    def cell_of(self, x, y) -> tuple[np.ndarray, np.ndarray]:
+        """Integer (ix, iy) of map-frame points (may fall outside the grid)."""
+        ix = np.floor((np.asarray(x) - self.origin_x) / self.resolution).astype(np.int64)
+        iy = np.floor((np.asarray(y) - self.origin_y) / self.resolution).astype(np.int64)
+        return ix, iy
+
+    def cell_centres(self, ix, iy) -> tuple[np.ndarray, np.ndarray]:
+        return (self.origin_x + (np.asarray(ix) + 0.5) * self.resolution,
+                self.origin_y + (np.asarray(iy) + 0.5) * self.resolution)
+
+    def occupied(self, thresh: int = 65) -> np.ndarray:
+        """Boolean [iy, ix] of cells at or above ``thresh`` percent (map_server's 0.65)."""
+        return self.occupancy >= thresh
