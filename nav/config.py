@@ -9,13 +9,16 @@ envelope. Override in YAML or ``LUPIN_NAV__...``.
 """
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Optional
 
 from pydantic import Field, model_validator
 
 from hw.config import Strict
+#TMP from nav.amcl.config import AmclConfig
 from nav.costmap.config import CostmapsConfig
 from nav.mppi.config import MppiConfig
+from nav.slam.config import SlamConfig
 
 Triple = tuple[float, float, float]
 
@@ -90,6 +93,11 @@ class NavigatorConfig(Strict):
     the timeout."""
     progress_time: float = Field(10.0, gt=0)
     """Seconds allowed to make that progress (Nav2's movement_time_allowance 10.0)."""
+    readiness_timeout: float = Field(20.0, gt=0)
+    """Seconds the readiness cascade waits at one stage before it reports that stage as missing
+    (seed: bond_timeout raised from 4 s to 20 s, because a cold bring-up over WiFi took longer
+    than 4 s and the default aborted a stack that was fine). It keeps waiting after reporting:
+    navigation activates as soon as the stage arrives, the cascade never wedges."""
     lidar_mount: tuple[float, float, float] = (0.115, 0.0, 0.0)
     """Lidar pose in base_link (x, y, yaw): the MIRTE model's lidar post (sim model README)."""
 
@@ -109,6 +117,22 @@ class NavConfig(Strict):
     """SimpleGoalChecker tolerances."""
     navigator: NavigatorConfig = NavigatorConfig()
     """Navigate-to-pose: rates, timeout, recovery."""
+    slam: bool = True
+    """True: SLAM owns ``map -> odom`` and maps as it goes; false: localisation on the saved map
+    ``map_file`` (the original's ``slam:=`` launch argument; there SLAM was the live mode and
+    AMCL the dormant one, kept warm for a saved-map workflow: here both are live)."""
+    map_file: Optional[Path] = None
+    """The saved map (map_server YAML) to localise on when ``slam`` is false."""
+    mapping: SlamConfig = SlamConfig()
+    """SLAM: lidar odometry, grid, loop closure, worker process and its respawn."""
+#TMP    amcl: AmclConfig = AmclConfig()
+    """Localisation on a saved map: particle filter, Omni motion model, likelihood field."""
+
+    @model_validator(mode="after")
+    def _localisation_source(self) -> "NavConfig":
+        if not self.slam and self.map_file is None:
+            raise ValueError("slam is false (localisation on a saved map) but map_file is not set")
+        return self
 
     @model_validator(mode="after")
     def _derive_coupled(self) -> "NavConfig":

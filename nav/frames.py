@@ -47,3 +47,17 @@ def distance(a: Pose2D, b: Pose2D) -> float:
 def yaw_error(a: Pose2D, b: Pose2D) -> float:
     """|a.yaw - b.yaw| wrapped to [0, pi]."""
     return abs(wrap_angle(a.yaw - b.yaw))
+
+
+def to_matrix(p: Pose2D) -> np.ndarray:
+    """The 4 x 4 homogeneous transform of a planar pose (kiss-icp's pose type)."""
+    c, s = math.cos(p.yaw), math.sin(p.yaw)
+    m = np.eye(4)
+    m[:2, :2] = [[c, -s], [s, c]]
+    m[0, 3], m[1, 3] = p.x, p.y
+    return m
+
+
+def from_matrix(m: np.ndarray) -> Pose2D:
+    """The planar part of a 4 x 4 transform (roll, pitch and z dropped)."""
+    return Pose2D(float(m[0, 3]), float(m[1, 3]), math.atan2(m[1, 0], m[0, 0]))

@@ -1,17 +1,22 @@
 """Where the ``map -> odom`` transform comes from.
 
 Navigation asks a ``Localisation`` for ``map -> odom`` and never looks at ground truth. This
-first implementation, ``OdometryOnly``, holds it at identity: the map frame is the robot's pose
-when the runtime started (spec/mission.md: in SLAM mode too, the map origin is the dock), so the
-robot's map pose is its wheel odometry. The SLAM issue replaces it with a live transform (scan
-matching, loop closure) and a localisation-on-a-saved-map twin; both keep this interface, so the
-navigator does not change.
+robot's two live sources are SLAM (``nav.slam.supervisor``: scan matching, loop closure, in a
+worker process) and AMCL on a saved map (``nav.amcl``); ``get_localisation`` picks one from
+config. ``OdometryOnly`` is their stub twin: it holds ``map -> odom`` at identity, so the map
+frame is the start pose (spec/mission.md: in SLAM mode too, the map origin is the dock) and
+the map pose is wheel odometry; tests of navigation alone use it.
 """
 from __future__ import annotations
 
-from typing import Protocol
+from typing import TYPE_CHECKING, Callable, Optional, Protocol
 
+from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
+from nav.occupancy import OccupancyMap
+
+if TYPE_CHECKING:
+    from nav.config import NavConfig
 
 
 class Localisation(Protocol):
@@ -20,6 +25,9 @@ class Localisation(Protocol):
 
     def ready(self) -> bool:
         """True once ``map -> odom`` resolves (the readiness cascade's last stage)."""
+
+    def has_map(self) -> bool:
+        """True once a map exists (the cascade's middle stage)."""
 
 
 class OdometryOnly:
@@ -30,3 +38,23 @@ class OdometryOnly:
 
     def ready(self) -> bool:
         return True
+
+    def has_map(self) -> bool:
+        """No map to wait for: the map frame is the start pose."""
+        return True
+
+
+def get_localisation(cfg: "NavConfig", odom_pose: Callable[[], Pose2D], scan: Callable[[], Optional[LidarScan]],
+                     on_map: Callable[[OccupancyMap], None]) -> Localisation:
+    """What ``nav.slam`` selects (kiss-icp's ``get_<thing>(config)``: callers never branch):
+    SLAM in its worker process, or AMCL on the saved map ``nav.map_file`` (loaded and checked
+    here, so a bad map file is reported before the robot moves)."""
+    mount = Pose2D(*cfg.navigator.lidar_mount)
+    if cfg.slam:
+        from nav.slam.supervisor import SlamSupervisor
+        return SlamSupervisor(cfg.mapping, mount, odom_pose, scan, on_map)
+    from nav.amcl.localisation import AmclLocalisation
+    from nav.map_io import load_map
+    saved = load_map(cfg.map_file)
+    on_map(saved)
+    return AmclLocalisation(cfg.amcl, saved, mount, odom_pose, scan)

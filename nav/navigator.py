@@ -44,6 +44,7 @@ from nav.goal_checker import GoalChecker
 from nav.localisation import Localisation
 from nav.mppi.controller import NoValidControl
 from nav.planner import PlanningError
+from nav.readiness import Readiness
 from nav.smoother import VelocitySmoother
 
 log = logging.getLogger(__name__)
@@ -111,7 +112,8 @@ class Sources:
 
 class Navigator:
     def __init__(self, config: NavConfig, sources: Sources, localisation: Localisation,
-                 local_costmap: Costmap, global_costmap: Costmap, planner: Planner, controller: Controller):
+                 local_costmap: Costmap, global_costmap: Costmap, planner: Planner, controller: Controller,
+                 readiness: Readiness | None = None):
         self.config = config
         self.io = sources
         self.localisation = localisation
@@ -119,6 +121,8 @@ class Navigator:
         self.global_costmap = global_costmap
         self.planner = planner
         self.controller = controller
+        self.readiness = readiness
+        """The start-up cascade; goals are refused until it is active (None: always active)."""
         self.smoother = VelocitySmoother(config.smoother)
         self.goal_checker = GoalChecker(config.goal_checker)
         mx, my, myaw = config.navigator.lidar_mount
@@ -141,7 +145,8 @@ class Navigator:
         return self.state in (State.FOLLOWING, State.RECOVERING)
 
     def navigate_to(self, goal: Pose2D, now: float, timeout: float | None = None) -> None:
-        """Start (or replace) a goal in the map frame; progress via ``feedback``."""
+        """Start (or replace) a goal in the map frame; progress via ``feedback``. Before the
+        readiness cascade is active the goal fails at once, with the stage that is missing."""
         self.goal = goal
         self.state, self.reason = State.FOLLOWING, ""
         self._start, self._last_control = now, now
@@ -152,6 +157,9 @@ class Navigator:
         self.goal_checker.reset()
         self.controller.reset()
         self.smoother.reset()
+        if self.readiness is not None and not self.readiness.tick(now):
+            self._finish(State.FAILED, f"navigation {self.readiness.status(now)}", now)
+            return
         self._replan(now)
 
     def cancel(self, now: float, reason: str = "canceled") -> None:

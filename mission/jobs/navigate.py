@@ -49,6 +49,7 @@ class NavigateRun(SimRuntime):
         """Navigate to a world-frame goal and run the scheduler until the goal ends; returns
         the outcome (succeeded / failed / canceled)."""
         timeout = timeout if timeout is not None else self.robot.config.nav.navigator.default_timeout
+        self.wait_ready()
         self.nav.navigate_to(self.to_map(goal_world), self.now, timeout)
         end = self.now + timeout + GRACE_S
         next_progress = self.now
@@ -61,6 +62,14 @@ class NavigateRun(SimRuntime):
         if self.nav.active:  # the navigator's own timeout must have fired; never hang regardless
             self.nav.cancel(self.now, "job timeout")
         return self.nav.state.value
+
+    def wait_ready(self) -> bool:
+        """Run until the readiness cascade is active, or its ceiling passes (the goal then fails
+        with the missing stage as its reason)."""
+        readiness, sched = self.nav.readiness, self.robot.scheduler
+        while not readiness.tick(self.now) and not readiness.overdue(self.now):
+            sched.step()
+        return readiness.active
 
     def truth_error(self, goal_world: Pose2D) -> tuple[float, float]:
         t = self.sim.truth()

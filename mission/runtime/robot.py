@@ -18,7 +18,8 @@ a press even if everything above hangs.
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Callable
 
 from arm.controller import ArmController
 from hw.base_controller import BaseController
@@ -46,6 +47,13 @@ class Robot:
     base: BaseController
     leds: LedStatus
     arm: ArmController
+    closers: list[Callable[[], None]] = field(default_factory=list)
+    """What ``close`` shuts down (worker processes, devices), in order."""
+
+    def close(self) -> None:
+        for close in self.closers:
+            close()
+        self.closers.clear()
 
     def _led_tick(self, now: float) -> None:
         c = self.base.command

@@ -22,6 +22,7 @@ class SimRuntime:
     robot: Robot
 
     def close(self) -> None:
+        self.robot.close()
         self.sim.close()
 
 

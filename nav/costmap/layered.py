@@ -58,9 +58,12 @@ class Costmap:
         self.obstacle.update(scan, sensor_pose)
         self._rebuild()
 
-    def clear(self) -> None:
-        """Forget every observation (Nav2's clear_entirely_*_costmap); a static map stays."""
+    def clear(self, static: bool = False) -> None:
+        """Forget every observation (Nav2's clear_entirely_*_costmap); a static map stays unless
+        ``static`` (the map reset: the map itself is being erased)."""
         self.obstacle.reset()
+        if static and self.static is not None:
+            self.static.costs = None
         self._rebuild()
 
     def set_static(self, occupancy: np.ndarray, resolution: float, origin_x: float, origin_y: float) -> None:

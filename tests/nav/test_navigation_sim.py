@@ -14,7 +14,10 @@ from tests.fixtures import open_floor
 
 
 def navigate_run(world, seed=0, **env):
-    return start_navigate(world, load_config(env={"LUPIN_SIM__SEED": str(seed), **env}))
+    """A sim run with the whole stack (SLAM included), started and past its readiness cascade."""
+    run = start_navigate(world, load_config(env={"LUPIN_SIM__SEED": str(seed), **env}))
+    assert run.wait_ready(), run.nav.readiness.status(run.now)
+    return run
 
 
 def heading_excursion(run) -> float:

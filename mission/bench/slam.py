@@ -1,0 +1,126 @@
+"""SLAM benchmarks on a patrol-length survey of the default greenhouse (``mission.jobs.survey``).
+
+One live run: the robot visits every pot's approach pose and returns home with SLAM in its
+worker owning ``map -> odom``. Its log is then judged three ways side by side on the same scans:
+wheel odometry alone, plain KissICP (kiss-icp's own pipeline: constant-velocity prediction, no
+odometry) and ours (the worker's online estimate for each scan, as navigation used it). The map
+is judged against the world file rasterised at the map's resolution.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+from kiss_icp.kiss_icp import KissICP
+
+from hw.odometry import Pose2D
+from mission.bench import Sample, benchmark
+from mission.jobs.map_quality import map_quality
+from mission.jobs.survey import survey
+from mission.runtime.config import LupinConfig
+from nav.frames import from_matrix
+from nav.slam.lidar_odometry import kiss_config
+from nav.slam.mapper import Mapper
+from nav.slam.scan_points import scan_points
+from sim.world import load_default_world
+
+_CACHE: dict = {}
+
+
+def _survey(config: LupinConfig):
+    """One survey per process, shared by the three benchmarks."""
+    if "log" not in _CACHE:
+        world = load_default_world()
+        run, log = survey(world, config)
+        try:
+            _CACHE.update(log=log.arrays(), angles=log.angles, occupancy=run.nav.localisation.occupancy,
+                          world=world, spawn=run.spawn, replies=run.nav.localisation)
+        finally:
+            run.close()
+    return _CACHE
+
+
+def _ate(est: np.ndarray, truth: np.ndarray) -> float:
+    return round(math.sqrt(float(np.mean(np.sum((est[:, :2] - truth[:, :2]) ** 2, axis=1)))), 4)
+
+
+def plain_kiss_icp(config: LupinConfig, angles: np.ndarray, ranges: np.ndarray) -> np.ndarray:
+    """kiss-icp's own pipeline on the same scans (same voxel and ranges as ours)."""
+    cfg = config.nav.mapping
+    mount = Pose2D(*config.nav.navigator.lidar_mount)
+    icp = KissICP(kiss_config(cfg))
+    out = []
+    for r in ranges:
+        pts = scan_points(angles, r, mount, cfg.min_range, cfg.max_range)
+        icp.register_frame(pts, np.zeros(len(pts)))
+        p = from_matrix(icp.last_pose)
+        out.append((p.x, p.y, p.yaw))
+    return np.array(out)
+
+
+@benchmark("slam.ate")
+def ate(config: LupinConfig) -> Sample:
+    """Absolute trajectory error (RMS, map frame, no alignment: all three start at the dock)."""
+    s = _survey(config)
+    log = s["log"]
+    truth = log["truth"]
+    kiss = plain_kiss_icp(config, s["angles"], log["ranges"])
+    errors = np.hypot(*(log["slam"][:, :2] - truth[:, :2]).T)
+    return Sample(list(errors * 1000.0), {
+        "wheel_odometry_m": _ate(log["odom"], truth), "kiss_icp_m": _ate(kiss, truth),
+        "ours_m": _ate(log["slam"], truth), "ours_max_m": round(float(errors.max()), 4),
+        "scans": int(len(truth)), "distance_m": round(float(np.hypot(*np.diff(truth[:, :2], axis=0).T).sum()), 1)})
+
+
+@benchmark("slam.map")
+def map_figures(config: LupinConfig) -> Sample:
+    """Recall and precision of the final SLAM map's occupied cells against the world file."""
+    s = _survey(config)
+    t0 = time.perf_counter()
+    q = map_quality(s["occupancy"], s["world"], s["spawn"])
+    return Sample([(time.perf_counter() - t0) * 1000.0], {"recall": round(q.recall, 4), "precision": round(q.precision, 4),
+                                                          "true_cells": q.true_cells, "mapped_cells": q.mapped_cells})
+
+
+@benchmark("slam.update")
+def update(config: LupinConfig) -> Sample:
+    """Per-scan update time of the mapper (replaying the survey's scans in this process), and
+    the worker round trip's overhead (round trip minus the worker's own time) per scan."""
+    s = _survey(config)
+    log = s["log"]
+    mapper = Mapper(config.nav.mapping, Pose2D(*config.nav.navigator.lidar_mount))
+    times = []
+    for r, o in zip(log["ranges"], log["odom"]):
+        t0 = time.perf_counter()
+        mapper.process(s["angles"], r, Pose2D(*o))
+        times.append((time.perf_counter() - t0) * 1000.0)
+    overhead = _round_trip_overhead(config, s["angles"], log)
+    return Sample(times, {"round_trip_overhead_ms": round(float(np.median(overhead)), 3),
+                          "round_trip_overhead_p95_ms": round(float(np.percentile(overhead, 95)), 3),
+                          "loop_closures": mapper.loop_closures})
+
+
+def _round_trip_overhead(config: LupinConfig, angles: np.ndarray, log: dict) -> list[float]:
+    """Send the scans to a real worker one at a time and time each reply."""
+    from hw.interfaces import LidarScan
+    from nav.slam.supervisor import SlamSupervisor
+
+    cfg = config.nav.mapping
+    state = {"i": 0}
+    sup = SlamSupervisor(cfg, Pose2D(*config.nav.navigator.lidar_mount),
+                         lambda: Pose2D(*log["odom"][state["i"]]),
+                         lambda: LidarScan(float(log["stamps"][state["i"]]), angles, log["ranges"][state["i"]]))
+    out = []
+    try:
+        sup.tick(0.0)  # spawn and send the first scan
+        for i in range(1, min(len(log["stamps"]), 300)):
+            state["i"] = i
+            t0 = time.perf_counter()
+            sup.tick(i * 0.1)  # waits for the previous reply, then sends this scan
+            rt = (time.perf_counter() - t0) * 1000.0
+            if i > 1 and sup.last_reply is not None:
+                out.append(rt - sup.last_reply.busy_s * 1000.0)
+    finally:
+        sup.close()
+    return out

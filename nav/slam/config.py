@@ -1,0 +1,78 @@
+"""SLAM configuration (seed: ../shared/seeds/001_*, "SLAM configuration", "Resetting the map").
+
+Override in YAML under ``nav.slam`` or with ``LUPIN_NAV__SLAM__...``.
+"""
+from __future__ import annotations
+
+from pydantic import Field, model_validator
+
+from hw.config import Strict
+
+
+class SlamConfig(Strict):
+    resolution: float = Field(0.05, gt=0)
+    """Map cell size, m (seed: slam_toolbox resolution 0.05, the map file's resolution)."""
+    size: tuple[float, float] = (24.0, 24.0)
+    """Map extent (x, y), m, centred on the map origin (the dock): the global costmap's extent,
+    so the SLAM map and the costmap's static layer line up cell for cell."""
+    min_range: float = Field(0.25, ge=0)
+    """Returns closer than this are dropped, m (seed: below 0.25 m the lidar sees the robot's own
+    gripper and arm; filtered in AMCL, slam_toolbox and both costmaps alike)."""
+    max_range: float = Field(12.0, gt=0)
+    """Returns beyond this are dropped, m (seed: the C1's effective 12 m)."""
+    voxel_size: float = Field(0.10, gt=0)
+    """kiss-icp's local-map voxel, m (kiss-icp sizes it at ~1 % of the range it sees: 0.1 m at
+    the C1's 12 m). Measured on the greenhouse survey: 0.10 m gives 6 mm trajectory error at
+    2 ms a scan, 0.05 m 8 mm at 3 ms, 0.03 m 14 mm (too few points per voxel to average noise)."""
+    max_points_per_voxel: int = Field(20, gt=0)
+    """kiss-icp's points kept per voxel (its default)."""
+    local_map_range: float = Field(12.0, gt=0)
+    """Local voxel map radius around the robot, m (kiss-icp's max_distance: the sensor's range,
+    the C1's 12 m): points the lidar could still see stay in the map."""
+    initial_threshold: float = Field(0.3, gt=0)
+    """kiss-icp adaptive threshold before any motion, m (its default 2.0 m is lidar-car scale; a
+    2 m correspondence gate would pair a pot with its neighbour 1 m down the aisle, the slip
+    the reference warns of). It then adapts to the odometry's own prediction error."""
+    min_motion: float = Field(0.02, gt=0)
+    """Motion below which the adaptive threshold is not updated, m (kiss-icp min_motion_th)."""
+    keyframe_distance: float = Field(0.25, gt=0)
+    """A scan becomes a pose-graph node after this much travel, m (slam_toolbox's
+    minimum_travel_distance is 0.5; half that suits 1 m pot spacing)."""
+    keyframe_angle: float = Field(0.25, gt=0)
+    """... or after this much rotation, rad."""
+    loop_closure: bool = True
+    """Look for revisits and optimise the pose graph (off: lidar odometry alone, for comparison)."""
+    loop_search_radius: float = Field(1.0, gt=0)
+    """Look for revisits among keyframes this close to the current estimate, m
+    (slam_toolbox loop_search_maximum_distance is 3 m at house scale)."""
+    loop_min_travel: float = Field(4.0, gt=0)
+    """... that were left at least this much travel ago, m (so the recent chain is not a 'loop')."""
+    loop_fitness: float = Field(0.8, gt=0, le=1)
+    """Share of the scan's points that must land within ``loop_inlier_distance`` of the matched
+    submap for a loop closure to be accepted (a wrong match in a row of identical pots fails this)."""
+    loop_inlier_distance: float = Field(0.05, gt=0)
+    """Inlier distance for the loop check, m (one map cell)."""
+    loop_max_correction: float = Field(0.5, gt=0)
+    """A loop match may move the current pose at most this far, m; more is a false match
+    (half the pot spacing, so a match onto the neighbouring pot is rejected)."""
+    transform_publish_period: float = Field(0.10, gt=0)
+    """map -> odom publish period, s (seed: 10 Hz, down from slam_toolbox's 50 Hz: one of the two
+    bandwidth levers that kept the Pi's bridge below its silent-wedge threshold)."""
+    map_update_interval: float = Field(1.0, gt=0)
+    """How often the worker hands back the map for the global costmap's static layer, s (the
+    global costmap updates at 1 Hz)."""
+    respawn_delay: float = Field(1.0, gt=0)
+    """Seconds from a killed or crashed worker to its replacement (seed: respawn_delay 1.0)."""
+    reply_timeout: float = Field(5.0, gt=0)
+    """Wall seconds without a reply after which a worker counts as wedged and is killed and
+    respawned: a wedged SLAM never stalls the control loop."""
+    lockstep: bool = True
+    """Exchange every scan with the worker in lock-step on the runtime clock (the sim: runs stay
+    deterministic for a seed). On the robot the exchange never waits: a scan that finds the
+    worker busy is dropped and the latest reply is used."""
+
+    @model_validator(mode="after")
+    def _ranges(self) -> "SlamConfig":
+        if self.min_range >= self.max_range:
+            raise ValueError(f"slam.min_range {self.min_range} must be below max_range {self.max_range}")
+        return self

@@ -1,0 +1,164 @@
+"""The runtime's side of SLAM: the worker process, its pipe, its respawn, and ``map -> odom``.
+
+This is what navigation holds as its ``Localisation`` in SLAM mode. ``tick`` runs at 10 Hz on
+the runtime's scheduler (the seed's transform_publish_period 0.10: map -> odom at 10 Hz, down
+from slam_toolbox's 50 Hz, one of the two bandwidth levers of the original). Each tick collects
+the worker's reply to the previous scan and sends the newest scan, so the worker computes while
+the runtime runs on (it uses the second core), and a scan's result is applied one tick later:
+
+* **lock-step** (the sim): the tick waits for the reply it is due, so the reply is applied at
+  the same sim time whatever the machine's load, and runs stay deterministic for a seed;
+* **free-running** (the robot): the tick never waits; a scan that finds the worker busy is
+  dropped and the latest reply stands. Either way a worker silent for ``reply_timeout`` counts
+  as wedged and is killed.
+
+**The map reset** (seed, "Resetting the map"): slam_toolbox had no wipe-map call, so the
+original killed the process and let ``respawn_delay=1.0`` bring it back with an empty graph.
+``reset`` does the same: it kills the worker and a fresh one starts ``respawn_delay`` later on
+the runtime clock; a worker that dies on its own (or wedges) is replaced the same way. Through
+the gap ``map -> odom`` holds its last value, so navigation runs on wheel odometry, and the new
+worker starts its graph at the robot's current map pose: the map frame (the dock) survives the
+reset, and so do goals and mission poses given in it. The caller clears the costmaps.
+"""
+from __future__ import annotations
+
+import json
+import logging
+import subprocess
+import sys
+from multiprocessing.connection import Pipe
+from typing import Callable, Optional
+
+from hw.interfaces import LidarScan
+from hw.odometry import Pose2D
+from nav.frames import compose
+from nav.occupancy import OccupancyMap
+from nav.slam import worker
+from nav.slam.config import SlamConfig
+
+log = logging.getLogger(__name__)
+
+
+class SlamSupervisor:
+    def __init__(self, cfg: SlamConfig, lidar_mount: Pose2D, odom_pose: Callable[[], Pose2D],
+                 scan: Callable[[], Optional[LidarScan]], on_map: Callable[[OccupancyMap], None] = lambda m: None):
+        self.cfg = cfg
+        self.mount = lidar_mount
+        self.odom_pose, self.scan, self.on_map = odom_pose, scan, on_map
+        self._map_to_odom = Pose2D()
+        self.occupancy: OccupancyMap | None = None
+        """The latest map the worker handed back."""
+        self.last_reply: worker.Reply | None = None
+        self.spawned = self.deaths = 0
+        self._proc = None
+        self._conn = None
+        self._pending: float | None = None
+        """Runtime time the outstanding scan was sent at, None when none is."""
+        self._sent_stamp = -1.0
+        self._respawn_at: float | None = 0.0
+        self._next_map = 0.0
+
+    # -- Localisation --------------------------------------------------------------------------
+
+    def map_to_odom(self) -> Pose2D:
+        return self._map_to_odom
+
+    def has_map(self) -> bool:
+        return self.occupancy is not None
+
+    def ready(self) -> bool:
+        """``map -> odom`` resolves once a worker has answered a scan; it then stays resolved
+        (held through a reset's gap)."""
+        return self.last_reply is not None
+
+    # -- the beat ------------------------------------------------------------------------------
+
+    def tick(self, now: float) -> None:
+        if self._proc is None:
+            if self._respawn_at is not None and now >= self._respawn_at - 1e-9:
+                self._spawn()
+            else:
+                return
+        if self._pending is not None and not self._collect(now):
+            return
+        scan = self.scan()
+        if scan is None or scan.stamp <= self._sent_stamp:
+            return
+        want_map = now >= self._next_map - 1e-9
+        start = compose(self._map_to_odom, self.odom_pose())
+        try:
+            self._conn.send(worker.Scan(scan.stamp, scan.angles, scan.ranges, self.odom_pose(), start, want_map))
+        except (BrokenPipeError, OSError):
+            self._lost(now, "its pipe broke")
+            return
+        if want_map:
+            self._next_map = now + self.cfg.map_update_interval
+        self._pending, self._sent_stamp = now, scan.stamp
+
+    def reset(self, now: float) -> int:
+        """The map reset: kill the worker; a fresh one starts ``respawn_delay`` later. Returns
+        how many workers were killed (0 when none was running, e.g. inside a reset's gap)."""
+        killed = self._kill()
+        self._respawn_at = now + self.cfg.respawn_delay
+        log.info("map reset: killed %d SLAM worker(s); respawning in %.1f s", killed, self.cfg.respawn_delay)
+        return killed
+
+    def close(self) -> None:
+        self._kill()
+        self._respawn_at = None
+
+    @property
+    def pid(self) -> int | None:
+        return self._proc.pid if self._proc is not None else None
+
+    # -- internals -----------------------------------------------------------------------------
+
+    def _spawn(self) -> None:
+        parent, child = Pipe()
+        mx = self.mount
+        config = json.dumps({**self.cfg.model_dump(mode="json"), "lidar_mount": [mx.x, mx.y, mx.yaw]})
+        self._proc = subprocess.Popen([sys.executable, *worker.LAUNCH, str(child.fileno()), config],
+                                      pass_fds=(child.fileno(),), stdin=subprocess.DEVNULL)
+        child.close()
+        self._conn = parent
+        self._pending, self._respawn_at = None, None
+        self._next_map = 0.0
+        self.spawned += 1
+
+    def _collect(self, now: float) -> bool:
+        """Take the reply to the outstanding scan; False if there is none (yet)."""
+        wait = self.cfg.reply_timeout if self.cfg.lockstep else 0.0
+        try:
+            if not self._conn.poll(wait):
+                if self.cfg.lockstep or now - self._pending >= self.cfg.reply_timeout:
+                    self._lost(now, f"no reply in {self.cfg.reply_timeout:g} s (wedged)")
+                return False
+            reply: worker.Reply = self._conn.recv()
+        except (EOFError, OSError):
+            self._lost(now, "it exited")
+            return False
+        self._pending = None
+        self.last_reply = reply
+        self._map_to_odom = reply.map_to_odom
+        if reply.occupancy is not None:
+            self.occupancy = reply.occupancy
+            self.on_map(reply.occupancy)
+        return True
+
+    def _lost(self, now: float, why: str) -> None:
+        log.warning("SLAM worker lost (%s); respawning in %.1f s", why, self.cfg.respawn_delay)
+        self.deaths += 1
+        self._kill()
+        self._respawn_at = now + self.cfg.respawn_delay
+
+    def _kill(self) -> int:
+        if self._proc is None:
+            return 0
+        proc, conn = self._proc, self._conn
+        self._proc = self._conn = None
+        self._pending = None
+        conn.close()
+        alive = proc.poll() is None
+        proc.kill()
+        proc.wait(timeout=5.0)
+        return int(alive)

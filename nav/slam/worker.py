@@ -1,0 +1,89 @@
+"""The SLAM worker process: the mapper behind a pipe.
+
+SLAM runs in its own process, as slam_toolbox did in the original, so a wedged or crashed SLAM
+can never stall the control loop, and so it uses the robot's second core. The runtime side is
+``nav.slam.supervisor``. The protocol is one message each way per scan:
+
+* request ``Scan``: a revolution, the wheel odometry pose it was taken at, the map pose to start
+  from (used by a fresh worker's first scan only), and whether the map is wanted back;
+* reply ``Reply``: the robot's map pose and ``map -> odom`` after that scan, the graph's size,
+  the time the worker spent, and the occupancy map when asked for.
+
+The pipe carries plain dataclasses of numpy arrays (a scan is ~4 KB, the map ~0.2 MB once a
+second). A closed pipe ends the worker; nothing else does.
+
+It is started as ``python -c 'nav.slam.worker.main' FD CONFIG_JSON`` (``LAUNCH``) with one end of a socket pair
+inherited as FD: a fresh interpreter (~0.5 s to import), never a fork of the runtime (whose
+MuJoCo, EGL and numba threads do not survive a fork) and independent of the caller's
+``__main__`` (multiprocessing's spawn would re-run a user's script in the worker).
+"""
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import dataclass
+from multiprocessing.connection import Connection
+from typing import Optional
+
+import numpy as np
+
+from hw.odometry import Pose2D
+from nav.occupancy import OccupancyMap
+from nav.slam.config import SlamConfig
+from nav.slam.mapper import Mapper
+
+
+@dataclass(frozen=True)
+class Scan:
+    stamp: float
+    angles: np.ndarray
+    ranges: np.ndarray
+    odom: Pose2D
+    start: Pose2D
+    want_map: bool
+
+
+@dataclass(frozen=True)
+class Reply:
+    stamp: float
+    pose: Pose2D
+    map_to_odom: Pose2D
+    keyframes: int
+    loop_closures: int
+    busy_s: float
+    """Wall seconds the worker spent on this scan (the round trip minus this is the overhead)."""
+    occupancy: Optional[OccupancyMap] = None
+
+
+def serve(conn: Connection, config: dict, mount: tuple[float, float, float]) -> None:
+    """The process body: map every scan that arrives until the pipe closes."""
+    cfg = SlamConfig(**config)
+    mapper: Mapper | None = None
+    while True:
+        try:
+            msg: Scan = conn.recv()
+        except (EOFError, OSError):
+            return
+        t0 = time.perf_counter()
+        if mapper is None:
+            mapper = Mapper(cfg, Pose2D(*mount), msg.start)
+        pose = mapper.process(msg.angles, msg.ranges, msg.odom)
+        occ = mapper.occupancy() if msg.want_map else None
+        reply = Reply(msg.stamp, pose, mapper.map_to_odom, mapper.keyframes, mapper.loop_closures,
+                      time.perf_counter() - t0, occ)
+        try:
+            conn.send(reply)
+        except (BrokenPipeError, OSError):
+            return
+
+
+#: The worker's command line after the interpreter (its classes then pickle as ``nav.slam.worker.*``,
+#: which ``-m nav.slam.worker`` would not give: there they would live in ``__main__``).
+LAUNCH = ["-c", "import sys; from nav.slam.worker import main; main(sys.argv[1:])"]
+
+
+def main(argv: list[str]) -> None:
+    fd, config = int(argv[0]), json.loads(argv[1])
+    mount = tuple(config.pop("lidar_mount"))
+    serve(Connection(fd), config, mount)
+
