@@ -54,7 +54,7 @@ def attach_navigation(robot: Robot, localisation: Localisation | None = None) ->
                     MppiController(cfg.mppi, cfg.costmap), readiness)
     sched = robot.scheduler
     if hasattr(localisation, "tick"):
-        sched.every("nav.localisation", LOCALISATION_RATE, localisation.tick)
+        sched.every("nav.localisation", getattr(localisation, "rate", LOCALISATION_RATE), localisation.tick)
     sched.every("nav.readiness", LOCALISATION_RATE, readiness.tick)
     sched.every("nav.local_costmap", cfg.navigator.local_costmap_rate, nav.tick_local_costmap)
     sched.every("nav.planner", cfg.navigator.global_costmap_rate, nav.tick_planner)

@@ -43,6 +43,8 @@ class SlamSupervisor:
     def __init__(self, cfg: SlamConfig, lidar_mount: Pose2D, odom_pose: Callable[[], Pose2D],
                  scan: Callable[[], Optional[LidarScan]], on_map: Callable[[OccupancyMap], None] = lambda m: None):
         self.cfg = cfg
+        self.rate = 1.0 / cfg.transform_publish_period
+        """Hz the runtime ticks this at: map -> odom's publish rate."""
         self.mount = lidar_mount
         self.odom_pose, self.scan, self.on_map = odom_pose, scan, on_map
         self._map_to_odom = Pose2D()

@@ -146,9 +146,9 @@ def test_fifty_pot_approaches_in_generated_greenhouses():
           + "; ".join(f"{r.world_seed}/{r.pot}: {r.reason}" for r in results if r.outcome != "succeeded"))
     assert len(ok) >= 49
     assert not any(r.bumped for r in results)
-    # Success is the robot's own judgement; ground truth must agree it is really there (odometry
-    # drifts ~1 % of the distance driven until SLAM lands, so allow that on top of the tolerance).
-    assert max(r.truth_error[0] for r in ok) < 0.25 + 0.15
+    # Success is the robot's own judgement; ground truth must agree it is really there (SLAM
+    # keeps the belief within a few centimetres of the truth, so little is allowed on top).
+    assert max(r.truth_error[0] for r in ok) < 0.25 + 0.05
 
 
 def test_navigation_is_deterministic_for_a_seed():
