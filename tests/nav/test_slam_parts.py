@@ -16,9 +16,7 @@ from nav.slam.grid import LogOddsGrid
 from nav.slam.mapper import Mapper
 from nav.slam.pose_graph import PoseGraph
 from nav.slam.scan_points import scan_points
-from tests.nav.builders import scan_from_occupancy
-
-RES = 0.05
+from tests.nav.builders import RES, greenhouse_occupancy, scan_from_occupancy
 
 
 # -- grid ---------------------------------------------------------------------------------------
@@ -133,18 +131,6 @@ def test_the_cascade_names_the_missing_stage_keeps_waiting_and_activates_when_it
 
 
 # -- the mapper on synthetic scans --------------------------------------------------------------
-
-def greenhouse_occupancy() -> np.ndarray:
-    """A 7 x 4 m room (0.05 m cells) with walls and 12 round pots, as the default world."""
-    h, w = 90, 150
-    occ = np.zeros((h, w), dtype=np.int8)
-    occ[:2, :] = occ[-2:, :] = occ[:, :2] = occ[:, -2:] = 100
-    yy, xx = np.mgrid[0:h, 0:w]
-    for px in (2.0, 3.0, 4.0, 5.0):
-        for py in (1.0, 2.0, 3.0):
-            occ[np.hypot((xx + 0.5) * RES - px - 0.1, (yy + 0.5) * RES - py - 0.1) <= 0.1] = 100
-    return occ
-
 
 def test_the_mapper_tracks_a_drive_with_biased_odometry_and_maps_the_pots():
     occ = greenhouse_occupancy()
