@@ -1,10 +1,11 @@
 """A picture of a navigation run a person can look at: the global costmap, the plan, and the
-driven path as the robot believed it (odometry) and as it was (sim ground truth).
+driven path as the robot believed it (its map pose: SLAM's ``map -> odom`` composed with wheel
+odometry) and as it was (sim ground truth).
 
 Drawn in the map frame (origin = the robot's start pose), north of the map up. Colours: unknown
 grey, free white, inflated cost in orange shades, inscribed red, lethal black; the plans light blue
 (the last one dark blue),
-odometry green, truth magenta; the goal as a circle of the xy tolerance with its heading.
+belief green, truth magenta; the goal as a circle of the xy tolerance with its heading.
 """
 from __future__ import annotations
 
@@ -70,7 +71,7 @@ def draw_run(grid: CostGrid, plans: Sequence[np.ndarray], odom: Sequence[Pose2D]
     cv2.circle(img, tuple(int(v) for v in g), int(xy_tolerance * ppm), BLACK, 1, cv2.LINE_AA)
     tip = px([goal.x + 0.3 * np.cos(goal.yaw)], [goal.y + 0.3 * np.sin(goal.yaw)])[0]
     cv2.arrowedLine(img, tuple(int(v) for v in g), tuple(int(v) for v in tip), BLACK, 2, cv2.LINE_AA, tipLength=0.3)
-    legend = [("plan", BLUE), ("odometry", GREEN), ("truth", MAGENTA)]
+    legend = [("plan", BLUE), ("belief (map pose)", GREEN), ("truth", MAGENTA)]
     for k, (name, colour) in enumerate(legend):
         cv2.putText(img, name, (8, 18 + 18 * k), cv2.FONT_HERSHEY_SIMPLEX, 0.5, colour, 1, cv2.LINE_AA)
     return img

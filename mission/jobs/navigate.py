@@ -31,7 +31,8 @@ class NavigateRun(SimRuntime):
     truth_path: list[Pose2D] = field(default_factory=list)
     """Ground truth in the world frame, at 10 Hz (judging only)."""
     odom_path: list[Pose2D] = field(default_factory=list)
-    """The robot's own belief (map frame carried into the world frame), at 10 Hz."""
+    """The robot's own belief, its map pose (SLAM's map -> odom on wheel odometry), carried
+    into the world frame, at 10 Hz."""
     bumps: dict[str, float] = field(default_factory=dict)
     """World geoms the chassis touched, with the first time each was touched (s)."""
     plans: list = field(default_factory=list)
