@@ -85,15 +85,3 @@ def draw_disc(grid: CostGrid, x: float, y: float, radius: float, value: int = LE
     ix, iy = grid.world_to_cell(x, y)
     cv2.circle(grid.data, (int(ix), int(iy)), int(round(radius / grid.resolution)), int(value), -1)
     return grid
-
-
-def greenhouse_occupancy() -> np.ndarray:
-    """A 7 x 4 m room (0.05 m cells) with walls and 12 round pots, as the default world."""
-    h, w = 90, 150
-    occ = np.zeros((h, w), dtype=np.int8)
-    occ[:2, :] = occ[-2:, :] = occ[:, :2] = occ[:, -2:] = 100
-    yy, xx = np.mgrid[0:h, 0:w]
-    for px in (2.0, 3.0, 4.0, 5.0):
-        for py in (1.0, 2.0, 3.0):
-            occ[np.hypot((xx + 0.5) * RES - px - 0.1, (yy + 0.5) * RES - py - 0.1) <= 0.1] = 100
-    return occ
