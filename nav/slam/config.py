@@ -66,6 +66,10 @@ class SlamConfig(Strict):
     reply_timeout: float = Field(5.0, gt=0)
     """Wall seconds without a reply after which a worker counts as wedged and is killed and
     respawned: a wedged SLAM never stalls the control loop."""
+    startup_timeout: float = Field(30.0, gt=0)
+    """Seconds a fresh worker may take to answer its first scan, in place of ``reply_timeout``:
+    it starts a new interpreter and imports numpy, casadi and kiss-icp first (~0.5 s here,
+    several seconds on a cold Pi)."""
     lockstep: bool = True
     """Exchange every scan with the worker in lock-step on the runtime clock (the sim: runs stay
     deterministic for a seed). On the robot the exchange never waits: a scan that finds the

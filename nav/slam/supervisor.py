@@ -58,6 +58,8 @@ class SlamSupervisor:
         """Runtime time the outstanding scan was sent at, None when none is."""
         self._sent_stamp = -1.0
         self._respawn_at: float | None = 0.0
+        self._answered = False
+        """Has the current worker replied yet (before that, ``startup_timeout`` applies)?"""
         self._next_map = 0.0
 
     # -- Localisation --------------------------------------------------------------------------
@@ -124,16 +126,17 @@ class SlamSupervisor:
         child.close()
         self._conn = parent
         self._pending, self._respawn_at = None, None
+        self._answered = False
         self._next_map = 0.0
         self.spawned += 1
 
     def _collect(self, now: float) -> bool:
         """Take the reply to the outstanding scan; False if there is none (yet)."""
-        wait = self.cfg.reply_timeout if self.cfg.lockstep else 0.0
+        limit = self.cfg.reply_timeout if self._answered else self.cfg.startup_timeout
         try:
-            if not self._conn.poll(wait):
-                if self.cfg.lockstep or now - self._pending >= self.cfg.reply_timeout:
-                    self._lost(now, f"no reply in {self.cfg.reply_timeout:g} s (wedged)")
+            if not self._conn.poll(limit if self.cfg.lockstep else 0.0):
+                if self.cfg.lockstep or now - self._pending >= limit:
+                    self._lost(now, f"no reply in {limit:g} s (wedged)")
                 return False
             reply: worker.Reply = self._conn.recv()
         except (EOFError, OSError):
@@ -141,6 +144,7 @@ class SlamSupervisor:
             return False
         self._pending = None
         self.last_reply = reply
+        self._answered = True
         self._map_to_odom = reply.map_to_odom
         if reply.occupancy is not None:
             self.occupancy = reply.occupancy
