@@ -17,6 +17,7 @@ from hw.odometry import Pose2D
 from mission.approach import approach_pose
 from mission.jobs.navigate import NavigateRun, start_navigate
 from mission.runtime.config import LupinConfig
+from nav.occupancy import OccupancyMap
 from sim.world import World
 
 SURVEY_TIMEOUT = 60.0
@@ -78,3 +79,27 @@ def survey(world: World, config: LupinConfig, run: NavigateRun | None = None) ->
     if record_last is not None:
         log.slam[record_last.stamp] = (record_last.pose.x, record_last.pose.y, record_last.pose.yaw)
     return run, log
+
+
+@dataclass(frozen=True)
+class Mapped:
+    occupancy: OccupancyMap
+    outcomes: list[str]
+    sim_time_s: float
+    keyframes: int
+    loop_closures: int
+
+
+def map_world(world: World, config: LupinConfig) -> Mapped:
+    """Map a simulated greenhouse by surveying it with SLAM (``lupin map save`` on the sim)."""
+    run, log = survey(world, config)
+    try:
+        slam = run.nav.localisation
+        slam.request_map()
+        end = run.now + 2.0 / slam.rate  # sent on the next tick, back on the one after
+        while run.now < end:
+            run.robot.scheduler.step()
+        reply = slam.last_reply
+        return Mapped(slam.occupancy, log.outcomes, run.now, reply.keyframes, reply.loop_closures)
+    finally:
+        run.close()

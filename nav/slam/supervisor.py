@@ -99,6 +99,10 @@ class SlamSupervisor:
             self._next_map = now + self.cfg.map_update_interval
         self._pending, self._sent_stamp = now, scan.stamp
 
+    def request_map(self) -> None:
+        """Have the next exchange bring the map back, whatever the update interval (a map save)."""
+        self._next_map = float("-inf")
+
     def reset(self, now: float) -> int:
         """The map reset: kill the worker; a fresh one starts ``respawn_delay`` later. Returns
         how many workers were killed (0 when none was running, e.g. inside a reset's gap)."""
