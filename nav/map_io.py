@@ -58,7 +58,7 @@ def save_map(m: OccupancyMap, yaml_path: str | Path, occupied_thresh: float = OC
     meta = {"image": pgm.name, "mode": "trinary", "resolution": float(m.resolution),
             "origin": [float(m.origin_x), float(m.origin_y), float(m.origin_yaw)], "negate": 0,
             "occupied_thresh": float(occupied_thresh), "free_thresh": float(free_thresh)}
-    _atomic_write(yaml_path, yaml.safe_dump(meta, sort_keys=False).encode())
+    _atomic_write(yaml_path, yaml.safe_dump(meta, sort_keys=False, default_flow_style=None).encode())
     return yaml_path
 
 

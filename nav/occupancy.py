@@ -51,3 +51,16 @@ class OccupancyMap:
     def occupied(self, thresh: int = 65) -> np.ndarray:
         """Boolean [iy, ix] of cells at or above ``thresh`` percent (map_server's 0.65)."""
         return self.occupancy >= thresh
+
+    def cropped(self, margin: int = 10) -> "OccupancyMap":
+        """The smallest sub-grid holding every known cell, plus ``margin`` unknown cells round
+        it (as slam_toolbox sizes its maps to what was explored); the map frame is unchanged."""
+        known = np.argwhere(self.occupancy >= 0)
+        if len(known) == 0:
+            return self
+        (y0, x0), (y1, x1) = known.min(axis=0), known.max(axis=0) + 1
+        y0, x0 = max(0, y0 - margin), max(0, x0 - margin)
+        y1, x1 = min(self.height, y1 + margin), min(self.width, x1 + margin)
+        return OccupancyMap(self.occupancy[y0:y1, x0:x1].copy(), self.resolution,
+                            round(self.origin_x + x0 * self.resolution, 9), round(self.origin_y + y0 * self.resolution, 9),
+                            self.origin_yaw)

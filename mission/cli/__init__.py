@@ -24,6 +24,7 @@ from mission import bench as bench_mod
 from mission.cli.detect import detect
 from mission.cli.heal import heal
 from mission.cli.hw import hw_app
+from mission.cli.map import map_app
 from mission.cli.sim import run_config, sim_app
 
 app = typer.Typer(
@@ -36,6 +37,7 @@ app = typer.Typer(
 )
 app.add_typer(sim_app, name="sim")
 app.add_typer(hw_app, name="hw")
+app.add_typer(map_app, name="map")
 app.command("detect")(detect)
 app.command("heal")(heal)
 

@@ -22,7 +22,7 @@ def run_config(ctx: typer.Context) -> LupinConfig:
     return load_config(obj.get("config_path"))
 
 
-def _world(path: Optional[Path]):
+def world_or_default(path: Optional[Path]):
     from sim.world import load_default_world, load_world
 
     return load_default_world() if path is None else load_world(path)
@@ -85,7 +85,7 @@ def drive(
     if route not in ROUTES:
         raise InputError(f"--route {route!r}: unknown route; known: {', '.join(ROUTES)}")
     config = run_config(ctx) if seed is None else with_seed(run_config(ctx), seed)
-    w = _world(world)
+    w = world_or_default(world)
     from mission.jobs.drive import drive as run_drive
     from mission.jobs.drive_report import format_results, results_json
 
@@ -118,7 +118,7 @@ def snapshot(
     from arm.presets import preset
 
     arm = preset("inspect") if camera == "wrist" else None
-    image = render_snapshot(_world(world), config.sim, config.hw, camera, xyyaw, arm)
+    image = render_snapshot(world_or_default(world), config.sim, config.hw, camera, xyyaw, arm)
     write_png(output, image)
     print(f"wrote {output} ({image.shape[1]}x{image.shape[0]}, {camera} camera)")
 
@@ -147,7 +147,7 @@ def navigate(
     if picture is not None:
         _png_output(picture, "--picture")
     config = run_config(ctx) if seed is None else with_seed(run_config(ctx), seed)
-    w = _world(world)
+    w = world_or_default(world)
     problems = robot_circle_problems(w, goal.x, goal.y, config.sim.geometry.pot_radius, config.nav.costmap.robot_radius)
     if problems:
         raise InputError(f"--to {to}: bad goal, the robot there{problems[0]}")

@@ -1,0 +1,78 @@
+"""`lupin map ...`: save a SLAM map in map_server format, and look at a saved one."""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from hw.errors import InputError
+from mission.cli.sim import run_config, world_or_default
+from mission.runtime.config import with_seed
+
+map_app = typer.Typer(help="SLAM maps in map_server format (YAML + PGM).", no_args_is_help=True)
+
+
+def summary(m) -> str:
+    occ = m.occupancy
+    n = occ.size
+    free, occupied = int(((occ >= 0) & (occ <= 25)).sum()), int((occ >= 65).sum())
+    unknown = n - free - occupied
+    return (f"{m.width} x {m.height} cells ({m.width * m.resolution:.2f} x {m.height * m.resolution:.2f} m) at "
+            f"{m.resolution:g} m, origin ({m.origin_x:g}, {m.origin_y:g}, {m.origin_yaw:g}); "
+            f"free {free} ({100 * free / n:.1f} %), occupied {occupied} ({100 * occupied / n:.1f} %), "
+            f"unknown {unknown} ({100 * unknown / n:.1f} %)")
+
+
+def _yaml_output(path: Path) -> Path:
+    if path.suffix.lower() not in (".yaml", ".yml"):
+        raise InputError(f"-o {path}: a map is written as NAME.yaml (with NAME.pgm beside it)")
+    return path
+
+
+@map_app.command("show")
+def show(
+    map_file: Path = typer.Argument(..., help="A map_server YAML file."),
+    output: Optional[Path] = typer.Option(None, "-o", "--output", help="Render the map to this PNG."),
+) -> None:
+    """Print what a saved map holds; with -o, render it (free white, occupied black, unknown grey)."""
+    import cv2
+
+    from nav.map_io import load_map
+    from nav.map_render import render_map
+
+    if output is not None and output.suffix.lower() != ".png":
+        raise InputError(f"-o {output}: must be a .png file")
+    m = load_map(map_file)
+    print(f"{map_file}: {summary(m)}")
+    if output is not None:
+        if not output.parent.is_dir():
+            raise InputError(f"-o {output}: directory {output.parent} does not exist")
+        cv2.imwrite(str(output), render_map(m))
+        print(f"wrote {output}")
+
+
+@map_app.command("save")
+def save(
+    ctx: typer.Context,
+    output: Path = typer.Option(..., "-o", "--output", help="NAME.yaml to write (NAME.pgm beside it)."),
+    world: Optional[Path] = typer.Option(None, "--world", help="World file to map (default: the built-in greenhouse)."),
+    seed: Optional[int] = typer.Option(None, "--seed", help="Sim seed (overrides config)."),
+) -> None:
+    """Map the simulated greenhouse with SLAM (a survey: every pot's approach pose, then home)
+    and save the map; its frame is the robot's start pose, as a patrol's."""
+    from mission.jobs.survey import map_world
+    from nav.map_io import save_map
+
+    _yaml_output(output)
+    if not output.parent.exists():
+        output.parent.mkdir(parents=True)
+    config = run_config(ctx) if seed is None else with_seed(run_config(ctx), seed)
+    mapped = map_world(world_or_default(world), config)
+    path = save_map(mapped.occupancy.cropped(), output)
+    failed = [o for o in mapped.outcomes if o != "succeeded"]
+    print(f"mapped in {mapped.sim_time_s:.1f} s sim: {mapped.keyframes} keyframes, {mapped.loop_closures} loop closures"
+          + (f", {len(failed)} survey goals not reached" if failed else ""))
+    print(f"{path}: {summary(mapped.occupancy.cropped())}")
+    if failed:
+        raise typer.Exit(1)

@@ -1,0 +1,68 @@
+"""An occupancy map as a picture a person can read: the one renderer for ``lupin map show``
+and, later, the patrol's run picture.
+
+Free white, occupied black, unknown grey, north up; cells scaled up by whole pixels (nearest
+neighbour, so every cell stays a crisp square) until the short side is about 400 px; a light
+1 m grid; the map origin (the dock, in SLAM mode) as a small axis cross, x red and y green.
+Pure drawing: no file I/O here.
+"""
+from __future__ import annotations
+
+import math
+
+import cv2
+import numpy as np
+
+from nav.occupancy import OccupancyMap
+
+WHITE, BLACK, GREY = (255, 255, 255), (0, 0, 0), (160, 160, 160)
+GRID = (225, 215, 205)
+RED, GREEN = (40, 40, 220), (40, 170, 40)
+MIN_SHORT_SIDE = 400
+
+
+def render_map(m: OccupancyMap, scale: int | None = None, occupied_thresh: int = 65,
+               free_thresh: int = 25) -> np.ndarray:
+    """BGR uint8 image of ``m``, ``scale`` pixels per cell (default: fit ~400 px)."""
+    if scale is None:
+        scale = max(1, math.ceil(MIN_SHORT_SIDE / max(1, min(m.width, m.height))))
+    occ = m.occupancy
+    img = np.empty(occ.shape + (3,), np.uint8)
+    img[:] = GREY
+    known = (occ >= 0) & (occ <= 100)
+    img[known & (occ <= free_thresh)] = WHITE
+    img[known & (occ >= occupied_thresh)] = BLACK
+    img = np.repeat(np.repeat(img[::-1], scale, axis=0), scale, axis=1)
+    _grid(img, m, scale)
+    _origin(img, m, scale)
+    return img
+
+
+def to_pixel(m: OccupancyMap, scale: int, x: float, y: float) -> tuple[int, int]:
+    """Map-frame point -> (column, row) in a ``render_map`` image."""
+    return (int(round((x - m.origin_x) / m.resolution * scale)),
+            int(round((m.height - (y - m.origin_y) / m.resolution) * scale)))
+
+
+def _grid(img: np.ndarray, m: OccupancyMap, scale: int) -> None:
+    """A 1 m grid, drawn only over free cells so walls and pots stay solid."""
+    free = np.all(img == WHITE, axis=2)
+    x0, x1 = m.origin_x, m.origin_x + m.width * m.resolution
+    y0, y1 = m.origin_y, m.origin_y + m.height * m.resolution
+    lines = np.zeros(img.shape[:2], bool)
+    for gx in range(math.ceil(x0), math.floor(x1) + 1):
+        c = to_pixel(m, scale, gx, y0)[0]
+        lines[:, max(0, min(c, img.shape[1] - 1))] = True
+    for gy in range(math.ceil(y0), math.floor(y1) + 1):
+        r = to_pixel(m, scale, x0, gy)[1]
+        lines[max(0, min(r, img.shape[0] - 1)), :] = True
+    img[lines & free] = GRID
+
+
+def _origin(img: np.ndarray, m: OccupancyMap, scale: int) -> None:
+    c, r = to_pixel(m, scale, 0.0, 0.0)
+    if not (0 <= c < img.shape[1] and 0 <= r < img.shape[0]):
+        return
+    arm = max(8, int(round(0.3 / m.resolution * scale)))
+    cv2.arrowedLine(img, (c, r), (c + arm, r), RED, 2, tipLength=0.3)
+    cv2.arrowedLine(img, (c, r), (c, r - arm), GREEN, 2, tipLength=0.3)
