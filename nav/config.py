@@ -15,7 +15,7 @@ from typing import Optional
 from pydantic import Field, model_validator
 
 from hw.config import Strict
-#TMP from nav.amcl.config import AmclConfig
+from nav.amcl.config import AmclConfig
 from nav.costmap.config import CostmapsConfig
 from nav.mppi.config import MppiConfig
 from nav.slam.config import SlamConfig
@@ -125,7 +125,7 @@ class NavConfig(Strict):
     """The saved map (map_server YAML) to localise on when ``slam`` is false."""
     mapping: SlamConfig = SlamConfig()
     """SLAM: lidar odometry, grid, loop closure, worker process and its respawn."""
-#TMP    amcl: AmclConfig = AmclConfig()
+    amcl: AmclConfig = AmclConfig()
     """Localisation on a saved map: particle filter, Omni motion model, likelihood field."""
 
     @model_validator(mode="after")

@@ -17,7 +17,6 @@ from mission.runtime.config import load_config
 from mission.runtime.navigation import MapResetError, clear_map
 from nav.costmap.grid import INSCRIBED, UNKNOWN
 from nav.frames import compose, inverse
-from nav.localisation import OdometryOnly
 from nav.slam.config import SlamConfig
 from nav.slam.mapper import Mapper
 from sim.world import load_default_world
@@ -126,15 +125,6 @@ def test_a_worker_that_dies_on_its_own_is_respawned():
     run.close()
 
 
-def test_clear_map_is_a_clear_error_when_localising_on_a_saved_map():
-    run = start_navigate(load_default_world(), load_config(env={}))
-    run.nav.localisation.close()
-    run.nav.localisation = OdometryOnly()
-    with pytest.raises(MapResetError, match="saved map"):
-        clear_map(run.nav, run.now)
-    run.close()
-
-
 def test_with_the_lidar_absent_navigation_stays_inactive_and_says_why_then_activates():
     run = start_navigate(load_default_world(), load_config(env={}))
     run.sim.faults.lidar_dropout(25.0)
@@ -149,4 +139,33 @@ def test_with_the_lidar_absent_navigation_stays_inactive_and_says_why_then_activ
     sched.run_until(26.5)  # ... but never wedges: scans return at 25 s
     assert readiness.active
     assert run.go(Pose2D(3.0, 0.5, 0.0), 30.0) == "succeeded", run.nav.reason
+    run.close()
+
+
+@pytest.mark.parametrize("error", [(0.4, 0.3, 0.3), (-0.3, -0.4, -0.3)])
+def test_localisation_on_the_saved_survey_map_converges_from_half_a_metre_and_navigates(surveyed, tmp_path, error):
+    """``nav.slam: false``: AMCL on the map the survey saved, started 0.5 m / 0.3 rad off."""
+    from nav.map_io import save_map
+
+    map_file = save_map(surveyed["occupancy"].cropped(), tmp_path / "greenhouse.yaml")
+    config = load_config(env={"LUPIN_NAV__SLAM": "false", "LUPIN_NAV__MAP_FILE": str(map_file),
+                              "LUPIN_NAV__AMCL__INITIAL_POSE": str(list(error))})
+    run = start_navigate(load_default_world(), config)
+    assert (run.nav.global_costmap.grid.data != UNKNOWN).any()  # the saved map is the static layer
+    assert run.wait_ready(), run.nav.readiness.status(run.now)
+    assert run.now < 5.0  # converged standing still, before moving
+    assert math.hypot(run.sim.truth().x - 1.0, run.sim.truth().y - 0.5) < 0.005  # nothing moved meanwhile
+
+    def error_now():
+        b, t = run.nav.map_pose(), run.to_map(run.sim.truth())
+        return math.hypot(b.x - t.x, b.y - t.y), abs(math.remainder(b.yaw - t.yaw, math.tau))
+
+    xy, yaw = error_now()
+    assert xy < 0.05 and yaw < 0.05, (xy, yaw)
+    assert run.go(Pose2D(5.0, 2.5, math.pi), 60.0) == "succeeded", run.nav.reason
+    xy, yaw = error_now()
+    assert xy < 0.05 and yaw < 0.03, (xy, yaw)  # SLAM, the live mode, holds ~1 cm
+    assert not run.bumps
+    with pytest.raises(MapResetError):
+        clear_map(run.nav, run.now)  # no live map to reset on a saved one
     run.close()
