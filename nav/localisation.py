@@ -13,7 +13,10 @@ from typing import TYPE_CHECKING, Callable, Optional, Protocol
 
 from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
+from nav.amcl.localisation import AmclLocalisation
+from nav.map_io import load_map
 from nav.occupancy import OccupancyMap
+from nav.slam.supervisor import SlamSupervisor
 
 if TYPE_CHECKING:
     from nav.config import NavConfig
@@ -51,10 +54,7 @@ def get_localisation(cfg: "NavConfig", odom_pose: Callable[[], Pose2D], scan: Ca
     here, so a bad map file is reported before the robot moves)."""
     mount = Pose2D(*cfg.navigator.lidar_mount)
     if cfg.slam:
-        from nav.slam.supervisor import SlamSupervisor
         return SlamSupervisor(cfg.mapping, mount, odom_pose, scan, on_map)
-    from nav.amcl.localisation import AmclLocalisation
-    from nav.map_io import load_map
     saved = load_map(cfg.map_file)
     on_map(saved)
     return AmclLocalisation(cfg.amcl, saved, mount, odom_pose, scan)

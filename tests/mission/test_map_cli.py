@@ -71,3 +71,14 @@ def test_bad_map_input_is_exit_2_and_one_line(capsys, tmp_path, argv, needle):
     code, out, err = run(capsys, *argv)
     assert code == 2
     assert needle in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err
+
+
+def test_localisation_on_a_bad_saved_map_is_exit_2_before_the_robot_moves(capsys, tmp_path, monkeypatch):
+    (tmp_path / "bad.yaml").write_text("image: gone.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n")
+    monkeypatch.setenv("LUPIN_NAV__SLAM", "false")
+    monkeypatch.setenv("LUPIN_NAV__MAP_FILE", str(tmp_path / "bad.yaml"))
+    code, out, err = run(capsys, "sim", "navigate", "--to", "3.0,0.5,0")
+    assert code == 2 and "bad.yaml: image:" in err and len(err.strip().splitlines()) == 1
+    monkeypatch.delenv("LUPIN_NAV__MAP_FILE")
+    code, out, err = run(capsys, "sim", "navigate", "--to", "3.0,0.5,0")
+    assert code == 2 and "map_file is not set" in err
