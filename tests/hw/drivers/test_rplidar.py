@@ -56,6 +56,9 @@ def test_spinup_silence_is_waited_out_and_garbage_resynchronised():
         assert drv.parser.resyncs >= 1
         assert drv.latest_scan().angles.size == 200  # whole revolutions again
         drv.close()
+        end = time.monotonic() + 2.0  # the emulator's reader thread takes the byte in its own time
+        while emu.requests[-1] != Req.STOP and time.monotonic() < end:
+            time.sleep(0.01)
         assert emu.requests[-1] == Req.STOP  # stop on exit
 
 
