@@ -89,9 +89,10 @@ class SlamSupervisor:
         if scan is None or scan.stamp <= self._sent_stamp:
             return
         want_map = now >= self._next_map - 1e-9
-        start = compose(self._map_to_odom, self.odom_pose())
+        odom = self.odom_pose()
+        start = compose(self._map_to_odom, odom)
         try:
-            self._conn.send(worker.Scan(scan.stamp, scan.angles, scan.ranges, self.odom_pose(), start, want_map))
+            self._conn.send(worker.Scan(scan.stamp, scan.angles, scan.ranges, odom, start, want_map))
         except (BrokenPipeError, OSError):
             self._lost(now, "its pipe broke")
             return
@@ -107,6 +108,7 @@ class SlamSupervisor:
         """The map reset: kill the worker; a fresh one starts ``respawn_delay`` later. Returns
         how many workers were killed (0 when none was running, e.g. inside a reset's gap)."""
         killed = self._kill()
+        self.occupancy = None  # erased: nothing may save or show the old map from now on
         self._respawn_at = now + self.cfg.respawn_delay
         log.info("map reset: killed %d SLAM worker(s); respawning in %.1f s", killed, self.cfg.respawn_delay)
         return killed
