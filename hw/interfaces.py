@@ -136,6 +136,10 @@ class LedStrip(Protocol):
 class Clock(Protocol):
     """Runtime time source. Sim: deterministic, advances physics. Wall: hardware time."""
 
+    deterministic: bool
+    """True when time moves only as the runtime waits (the sim), so a peer process may be waited
+    on in lock-step; False for wall time."""
+
     def now(self) -> float: ...
 
     def wait_until(self, t: float) -> None: ...

@@ -11,6 +11,10 @@ from typing import Callable
 
 
 class SimClock:
+    deterministic = True
+    """Time is a function of the run alone: whoever shares it may wait on each other (SLAM's
+    lock-step) without changing the outcome."""
+
     def __init__(self, advance: Callable[[float], None] | None = None, start: float = 0.0):
         self._advance = advance
         self._now = start

@@ -47,7 +47,8 @@ def attach_navigation(robot: Robot, localisation: Localisation | None = None) ->
     def static_map(m: OccupancyMap) -> None:
         gcm.set_static(m.occupancy, m.resolution, m.origin_x, m.origin_y)
 
-    localisation = localisation or get_localisation(cfg, odom_pose, scan, static_map)
+    localisation = localisation or get_localisation(cfg, odom_pose, scan, static_map,
+                                                    getattr(robot.hal.clock, "deterministic", False))
     readiness = Readiness({"scans": lambda: scan() is not None, "map": localisation.has_map,
                            "transform": localisation.ready}, cfg.navigator.readiness_timeout)
     nav = Navigator(cfg, sources, localisation, local_costmap(cfg.costmap), gcm, NavfnPlanner(cfg.planner),

@@ -4,6 +4,8 @@ Override in YAML under ``nav.slam`` or with ``LUPIN_NAV__SLAM__...``.
 """
 from __future__ import annotations
 
+from typing import Optional
+
 from pydantic import Field, model_validator
 
 from hw.config import Strict
@@ -70,10 +72,11 @@ class SlamConfig(Strict):
     """Seconds a fresh worker may take to answer its first scan, in place of ``reply_timeout``:
     it starts a new interpreter and imports numpy, casadi and kiss-icp first (~0.5 s here,
     several seconds on a cold Pi)."""
-    lockstep: bool = True
-    """Exchange every scan with the worker in lock-step on the runtime clock (the sim: runs stay
-    deterministic for a seed). On the robot the exchange never waits: a scan that finds the
-    worker busy is dropped and the latest reply is used."""
+    lockstep: Optional[bool] = None
+    """Exchange every scan with the worker in lock-step on the runtime clock, so runs stay
+    deterministic for a seed; or free-running, never waiting: a scan that finds the worker busy
+    is dropped and the latest reply is used. Unset: lock-step on the sim's clock, free-running
+    on the robot's wall clock."""
 
     @model_validator(mode="after")
     def _ranges(self) -> "SlamConfig":

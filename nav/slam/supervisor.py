@@ -41,8 +41,10 @@ log = logging.getLogger(__name__)
 
 class SlamSupervisor:
     def __init__(self, cfg: SlamConfig, lidar_mount: Pose2D, odom_pose: Callable[[], Pose2D],
-                 scan: Callable[[], Optional[LidarScan]], on_map: Callable[[OccupancyMap], None] = lambda m: None):
+                 scan: Callable[[], Optional[LidarScan]], on_map: Callable[[OccupancyMap], None] = lambda m: None,
+                 deterministic_clock: bool = True):
         self.cfg = cfg
+        self.lockstep = deterministic_clock if cfg.lockstep is None else cfg.lockstep
         self.rate = 1.0 / cfg.transform_publish_period
         """Hz the runtime ticks this at: map -> odom's publish rate."""
         self.mount = lidar_mount
@@ -140,8 +142,8 @@ class SlamSupervisor:
         """Take the reply to the outstanding scan; False if there is none (yet)."""
         limit = self.cfg.reply_timeout if self._answered else self.cfg.startup_timeout
         try:
-            if not self._conn.poll(limit if self.cfg.lockstep else 0.0):
-                if self.cfg.lockstep or now - self._pending >= limit:
+            if not self._conn.poll(limit if self.lockstep else 0.0):
+                if self.lockstep or now - self._pending >= limit:
                     self._lost(now, f"no reply in {limit:g} s (wedged)")
                 return False
             reply: worker.Reply = self._conn.recv()

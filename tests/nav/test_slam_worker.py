@@ -119,3 +119,18 @@ def test_reset_reports_how_many_workers_it_killed():
         assert sup.pid is not None and sup.spawned == 2
     finally:
         sup.close()
+
+
+def test_the_exchange_follows_the_clock_unless_config_says_otherwise():
+    robot = Robot()
+    mount = Pose2D(0.115, 0.0, 0.0)
+    assert SlamSupervisor(SlamConfig(), mount, Pose2D, robot.scan, deterministic_clock=True).lockstep
+    assert not SlamSupervisor(SlamConfig(), mount, Pose2D, robot.scan, deterministic_clock=False).lockstep
+    assert SlamSupervisor(SlamConfig(lockstep=True), mount, Pose2D, robot.scan, deterministic_clock=False).lockstep
+
+
+def test_the_sim_and_the_robot_clocks_say_whether_they_may_be_waited_on():
+    from hw.wall_clock import WallClock
+    from sim.clock import SimClock
+
+    assert SimClock().deterministic and not WallClock().deterministic
