@@ -91,7 +91,9 @@ class Mapped:
 
 
 def map_world(world: World, config: LupinConfig) -> Mapped:
-    """Map a simulated greenhouse by surveying it with SLAM (``lupin map save`` on the sim)."""
+    """Map a simulated greenhouse by surveying it with SLAM (``lupin map save`` on the sim),
+    whatever ``nav.slam`` says: making a map is what SLAM mode is for."""
+    config = config.model_copy(update={"nav": config.nav.model_copy(update={"slam": True})})
     run, log = survey(world, config)
     try:
         slam = run.nav.localisation
