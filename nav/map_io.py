@@ -6,17 +6,28 @@ The YAML holds ``image`` (relative to the YAML's folder, or absolute), ``mode``,
 ``origin: [x, y, yaw]`` (the lower-left pixel's pose in ``map``), ``negate``,
 ``occupied_thresh`` and ``free_thresh``. The image's first row is the map's top (north).
 
-Loading follows map_server: a pixel's occupancy probability is ``p = (255 - v) / 255``
-(``v / 255`` with ``negate: 1``); in ``trinary`` mode ``p >= occupied_thresh`` is occupied
-(100), ``p <= free_thresh`` free (0) and anything between unknown (-1); ``raw`` mode takes the
-pixel as the value (0..100, anything else unknown). Colour images are averaged to grey.
+Loading follows Nav2's map_server (``nav2_map_server/src/map_io.cpp``, ``loadMapFromFile``): a
+pixel's occupancy probability is ``p = 1 - v / 255`` (``v / 255`` with ``negate: 1``); in
+``trinary`` mode ``p > occupied_thresh`` is occupied (100), ``p < free_thresh`` free (0) and
+anything else, the thresholds themselves included, unknown (-1). ``raw`` mode takes the pixel
+as the value (0..100, anything else unknown) and ignores ``negate``, as Nav2 does. ``scale``
+mode is not supported. Colour images are averaged to grey over their colour channels (alpha
+ignored, as ROS 1's map_server does). PGM (binary P5 and ASCII P2, maxval 255) is read by the
+small parser here; other formats (PNG, ...) through OpenCV.
 
-Saving writes trinary: occupied 0 (black), free 254 (white) and unknown **128**, not the 205 of
-ROS's map_saver. 205 is p = 0.196, under the 0.25 free threshold this file carries, so a
-reader applying the thresholds as written would take unknown space for free; 128 (p = 0.498)
-is unknown under any thresholds either side of one half, inclusive or not. The round trip
-``save -> load`` is exact for trinary maps (every value -1, 0 or 100), and so is
-``load -> save`` of a file we wrote.
+Saving writes trinary: a cell ``>= occupied_thresh`` (65 %) is 0 (black), ``0 ..
+free_thresh`` (25 %) is 254 (white), like Nav2's map_saver, but unknown (and anything between
+the thresholds) is **128**, not the 205 both ROS map_savers write. The reason: map_server's
+loader thresholds the pixel with the thresholds in the YAML, and 205 is p = 50/255 = 0.196,
+*under* the 0.25 ``free_thresh`` we (and Nav2's saver, by default) write. ROS 1's map_saver
+got away with 205 only because it hard-codes ``free_thresh: 0.196`` in the YAML (0.196 <
+0.19608, so 205 stays unknown by a hair); Nav2's saver writes 205 with ``free_thresh: 0.25``,
+so Nav2 reloads its own unknown space as free (slam_toolbox issue #587, navigation2 PR #5138's
+discussion). 128 is p = 127/255 = 0.498, strictly between 0.25 and 0.65, so every reader
+applying the file's own thresholds, strict (Nav2, ROS 1) or inclusive, sees it unknown, and
+image viewers still show it mid-grey. With other thresholds ``save_map`` picks the pixel
+nearest the middle of the unknown band instead. The round trip ``save -> load`` is exact for
+trinary maps (every value -1, 0 or 100), and so is ``load -> save`` of a file we wrote.
 
 Every problem a user can cause (a missing or unreadable file, bad YAML, a missing or invalid
 field, a corrupt image) is one ``InputError`` naming the file and the field.
@@ -38,19 +49,23 @@ from nav.occupancy import FREE, OCCUPIED, UNKNOWN, OccupancyMap
 
 OCCUPIED_THRESH = 0.65
 FREE_THRESH = 0.25
-PIXEL_OCCUPIED, PIXEL_FREE, PIXEL_UNKNOWN = 0, 254, 128
+PIXEL_OCCUPIED, PIXEL_FREE = 0, 254
+PIXEL_UNKNOWN = 128
+"""p = 127/255 = 0.498: unknown to map_server under 0.65 / 0.25 (see the module docstring)."""
 MODES = ("trinary", "raw")
 
 
 def save_map(m: OccupancyMap, yaml_path: str | Path, occupied_thresh: float = OCCUPIED_THRESH,
              free_thresh: float = FREE_THRESH) -> Path:
-    """Write ``NAME.yaml`` and ``NAME.pgm`` (each atomically: temp file, then rename)."""
+    """Write ``NAME.yaml`` and ``NAME.pgm`` beside it (each atomically: temp file, then rename;
+    the PGM first, so the YAML never names a missing image). Returns the YAML's path."""
     yaml_path = Path(yaml_path)
+    unknown = unknown_pixel(occupied_thresh, free_thresh)
     yaml_path.parent.mkdir(parents=True, exist_ok=True)
     pgm = yaml_path.with_suffix(".pgm")
     p = m.occupancy.astype(np.float64) / 100.0
     known = (m.occupancy >= 0) & (m.occupancy <= 100)
-    pixels = np.full(m.occupancy.shape, PIXEL_UNKNOWN, dtype=np.uint8)
+    pixels = np.full(m.occupancy.shape, unknown, dtype=np.uint8)
     pixels[known & (p >= occupied_thresh)] = PIXEL_OCCUPIED
     pixels[known & (p <= free_thresh)] = PIXEL_FREE
     header = f"P5\n# lupin map, {m.resolution} m/cell\n{m.width} {m.height}\n255\n".encode()
@@ -60,6 +75,31 @@ def save_map(m: OccupancyMap, yaml_path: str | Path, occupied_thresh: float = OC
             "occupied_thresh": float(occupied_thresh), "free_thresh": float(free_thresh)}
     _atomic_write(yaml_path, yaml.safe_dump(meta, sort_keys=False, default_flow_style=None).encode())
     return yaml_path
+
+
+def unknown_pixel(occupied_thresh: float = OCCUPIED_THRESH, free_thresh: float = FREE_THRESH) -> int:
+    """The grey a trinary save writes for unknown: 128 if map_server reads it unknown under these
+    thresholds (it does for the defaults), else the pixel nearest the middle of the unknown band.
+
+    A ``ValueError`` (a bug in the caller, not user input) if the thresholds cannot round-trip:
+    black (p = 1) must be above ``occupied_thresh``, 254 (p = 1/255) below ``free_thresh``, and
+    some pixel strictly between them."""
+    if not (_pixel_p(PIXEL_FREE) < free_thresh < occupied_thresh < _pixel_p(PIXEL_OCCUPIED)):
+        raise ValueError(f"save_map thresholds free {free_thresh}, occupied {occupied_thresh}: need "
+                         f"1/255 < free_thresh < occupied_thresh < 1")
+    between = [v for v in range(256) if free_thresh < _pixel_p(v) < occupied_thresh]
+    if not between:
+        raise ValueError(f"save_map thresholds free {free_thresh}, occupied {occupied_thresh}: no grey "
+                         f"lies strictly between them, so unknown cells cannot be written")
+    if PIXEL_UNKNOWN in between:
+        return PIXEL_UNKNOWN
+    middle = (free_thresh + occupied_thresh) / 2
+    return min(between, key=lambda v: abs(_pixel_p(v) - middle))
+
+
+def _pixel_p(v: int) -> float:
+    """map_server's occupancy probability of a grey pixel (negate 0), computed as Nav2 does."""
+    return 1.0 - v / 255.0
 
 
 def load_map(yaml_path: str | Path) -> OccupancyMap:
@@ -73,7 +113,9 @@ def load_map(yaml_path: str | Path) -> OccupancyMap:
     resolution = _field(meta, yaml_path, "resolution", float)
     if not resolution > 0:
         raise InputError(f"{yaml_path}: resolution: must be > 0 m per cell, got {resolution}")
-    origin = meta.get("origin")
+    if "origin" not in meta:
+        raise InputError(f"{yaml_path}: origin: missing (required by map_server)")
+    origin = meta["origin"]
     if (not isinstance(origin, (list, tuple)) or len(origin) != 3
             or not all(_is_number(v) for v in origin)):
         raise InputError(f"{yaml_path}: origin: must be three numbers [x, y, yaw], got {origin!r}")
@@ -90,34 +132,41 @@ def load_map(yaml_path: str | Path) -> OccupancyMap:
     image_path = Path(image) if Path(image).is_absolute() else yaml_path.parent / image
     pixels = read_image(image_path, yaml_path)
     if mode == "raw":
-        occ = np.where(pixels <= 100, pixels, UNKNOWN)
+        v = np.rint(pixels).astype(np.int64)  # colour averages round as Nav2's raw mode does
+        occ = np.where(v <= 100, v, UNKNOWN)
     else:
-        v = pixels.astype(np.float64) / 255.0
-        p = v if negate else 1.0 - v
-        occ = np.where(p >= occ_t, OCCUPIED, np.where(p <= free_t, FREE, UNKNOWN))
+        shade = pixels / 255.0
+        p = shade if negate else 1.0 - shade
+        # Nav2's comparisons exactly: strict, so a pixel on a threshold is unknown.
+        occ = np.where(occ_t < p, OCCUPIED, np.where(p < free_t, FREE, UNKNOWN))
     return OccupancyMap(np.ascontiguousarray(occ[::-1]).astype(np.int8), resolution,
                         float(origin[0]), float(origin[1]), float(origin[2]))
 
 
 def read_image(path: Path, yaml_path: Path) -> np.ndarray:
-    """The map image as uint8 grey, first row on top: PGM (P5/P2) by our own reader, other
-    formats (PNG, ...) through OpenCV."""
+    """The map image as grey, first row on top: PGM (P5/P2) by our own reader (uint8), other
+    formats (PNG, ...) through OpenCV (colour averaged over B, G, R to float64, as map_server
+    averages channels before thresholding)."""
+    where = f"{yaml_path}: image: {path}"
     if not path.is_file():
-        raise InputError(f"{yaml_path}: image: {path} does not exist")
-    data = path.read_bytes()
+        raise InputError(f"{where} does not exist" if not path.exists() else f"{where} is not a file")
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"{where}: cannot read ({exc.strerror or exc})") from None
     if data[:2] in (b"P5", b"P2"):
-        return _parse_pgm(data, path)
-    img = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)
+        return _parse_pgm(data, where)
+    img = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED) if data else None
     if img is None or img.ndim not in (2, 3):
-        raise InputError(f"{yaml_path}: image: {path} is not a readable image")
+        raise InputError(f"{where} is not a readable image (PGM, PNG, ...)")
     if img.dtype != np.uint8:
-        raise InputError(f"{yaml_path}: image: {path} must be 8 bits per channel, got {img.dtype}")
+        raise InputError(f"{where} must be 8 bits per channel, got {img.dtype}")
     if img.ndim == 3:
-        img = img[:, :, :3].mean(axis=2).round().astype(np.uint8)
+        return img[:, :, :3].mean(axis=2)
     return img
 
 
-def _parse_pgm(data: bytes, path: Path) -> np.ndarray:
+def _parse_pgm(data: bytes, where: str) -> np.ndarray:
     """Netpbm grey: magic, width, height, maxval (255), separated by whitespace and comments."""
     tokens, pos = [], 2
     while len(tokens) < 3:
@@ -131,27 +180,27 @@ def _parse_pgm(data: bytes, path: Path) -> np.ndarray:
         while pos < len(data) and not data[pos:pos + 1].isspace():
             pos += 1
         if start == pos:
-            raise InputError(f"{path}: truncated PGM header")
+            raise InputError(f"{where}: truncated PGM header (width, height, maxval)")
         tokens.append(data[start:pos])
     try:
         width, height, maxval = (int(t) for t in tokens)
     except ValueError:
-        raise InputError(f"{path}: bad PGM header {b' '.join(tokens)!r}") from None
+        raise InputError(f"{where}: bad PGM header {b' '.join(tokens).decode(errors='replace')!r}") from None
     if width <= 0 or height <= 0 or maxval != 255:
-        raise InputError(f"{path}: PGM must be 8-bit (maxval 255) with a positive size, got "
+        raise InputError(f"{where}: PGM must be 8-bit (maxval 255) with a positive size, got "
                          f"{width} x {height}, maxval {maxval}")
     n = width * height
     if data[:2] == b"P2":
         try:
             values = np.array(data[pos:].split(), dtype=np.int64)
         except ValueError:
-            raise InputError(f"{path}: PGM pixel data is not numbers") from None
+            raise InputError(f"{where}: PGM pixel data is not numbers") from None
         if values.size != n or values.min(initial=0) < 0 or values.max(initial=0) > 255:
-            raise InputError(f"{path}: PGM has {values.size} pixels in 0..255, expected {n}")
+            raise InputError(f"{where}: PGM has {values.size} pixels in 0..255, expected {n}")
         return values.astype(np.uint8).reshape(height, width)
     body = data[pos + 1:]  # exactly one whitespace byte after maxval
     if len(body) < n:
-        raise InputError(f"{path}: PGM is truncated: {len(body)} of {n} pixel bytes")
+        raise InputError(f"{where}: PGM is truncated: {len(body)} of {n} pixel bytes")
     return np.frombuffer(body[:n], dtype=np.uint8).reshape(height, width).copy()
 
 

@@ -2,9 +2,9 @@
 and, later, the patrol's run picture.
 
 Free white, occupied black, unknown grey, north up; cells scaled up by whole pixels (nearest
-neighbour, so every cell stays a crisp square) until the short side is about 400 px; a light
-1 m grid; the map origin (the dock, in SLAM mode) as a small axis cross, x red and y green.
-Pure drawing: no file I/O here.
+neighbour, so every cell stays a crisp square) until the short side is about 400 px (the long
+side kept within 4000 px); a light 1 m grid; the map origin (the dock, in SLAM mode) as a
+small axis cross, x red and y green. Pure drawing: no file I/O here.
 """
 from __future__ import annotations
 
@@ -19,13 +19,16 @@ WHITE, BLACK, GREY = (255, 255, 255), (0, 0, 0), (160, 160, 160)
 GRID = (225, 215, 205)
 RED, GREEN = (40, 40, 220), (40, 170, 40)
 MIN_SHORT_SIDE = 400
+MAX_LONG_SIDE = 4000
 
 
 def render_map(m: OccupancyMap, scale: int | None = None, occupied_thresh: int = 65,
                free_thresh: int = 25) -> np.ndarray:
     """BGR uint8 image of ``m``, ``scale`` pixels per cell (default: fit ~400 px)."""
     if scale is None:
-        scale = max(1, math.ceil(MIN_SHORT_SIDE / max(1, min(m.width, m.height))))
+        scale = default_scale(m)
+    if scale < 1:
+        raise ValueError(f"render_map: scale must be a whole number of pixels >= 1, got {scale}")
     occ = m.occupancy
     img = np.empty(occ.shape + (3,), np.uint8)
     img[:] = GREY
@@ -36,6 +39,13 @@ def render_map(m: OccupancyMap, scale: int | None = None, occupied_thresh: int =
     _grid(img, m, scale)
     _origin(img, m, scale)
     return img
+
+
+def default_scale(m: OccupancyMap) -> int:
+    """Whole pixels per cell making the short side at least ``MIN_SHORT_SIDE``, unless that
+    would make the long side pass ``MAX_LONG_SIDE`` (a long thin map stays a sane size)."""
+    up = math.ceil(MIN_SHORT_SIDE / max(1, min(m.width, m.height)))
+    return max(1, min(up, MAX_LONG_SIDE // max(1, m.width, m.height)))
 
 
 def to_pixel(m: OccupancyMap, scale: int, x: float, y: float) -> tuple[int, int]:

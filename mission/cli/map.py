@@ -16,7 +16,7 @@ map_app = typer.Typer(help="SLAM maps in map_server format (YAML + PGM).", no_ar
 def summary(m) -> str:
     occ = m.occupancy
     n = occ.size
-    free, occupied = int(((occ >= 0) & (occ <= 25)).sum()), int((occ >= 65).sum())
+    free, occupied = int(((occ >= 0) & (occ <= 25)).sum()), int(((occ >= 65) & (occ <= 100)).sum())
     unknown = n - free - occupied
     return (f"{m.width} x {m.height} cells ({m.width * m.resolution:.2f} x {m.height * m.resolution:.2f} m) at "
             f"{m.resolution:g} m, origin ({m.origin_x:g}, {m.origin_y:g}, {m.origin_yaw:g}); "
@@ -41,14 +41,20 @@ def show(
     from nav.map_io import load_map
     from nav.map_render import render_map
 
-    if output is not None and output.suffix.lower() != ".png":
-        raise InputError(f"-o {output}: must be a .png file")
+    if output is not None:
+        if output.suffix.lower() != ".png":
+            raise InputError(f"-o {output}: must be a .png file")
+        if not output.parent.is_dir():
+            raise InputError(f"-o {output}: directory {output.parent} does not exist")
     m = load_map(map_file)
     print(f"{map_file}: {summary(m)}")
     if output is not None:
-        if not output.parent.is_dir():
-            raise InputError(f"-o {output}: directory {output.parent} does not exist")
-        cv2.imwrite(str(output), render_map(m))
+        try:
+            written = cv2.imwrite(str(output), render_map(m))
+        except cv2.error:
+            written = False
+        if not written:
+            raise InputError(f"-o {output}: cannot write the PNG")
         print(f"wrote {output}")
 
 
