@@ -9,6 +9,7 @@ replay the same scans through other estimators (plain KissICP) side by side.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -17,6 +18,7 @@ from hw.odometry import Pose2D
 from mission.approach import approach_pose
 from mission.jobs.navigate import NavigateRun, start_navigate
 from mission.runtime.config import LupinConfig
+from nav.frames import compose, inverse
 from nav.occupancy import OccupancyMap
 from sim.world import World
 
@@ -105,3 +107,13 @@ def map_world(world: World, config: LupinConfig) -> Mapped:
         return Mapped(slam.occupancy, log.outcomes, run.now, reply.keyframes, reply.loop_closures)
     finally:
         run.close()
+
+
+def drifted(odom: np.ndarray, scale: float = 1.02, yaw_per_m: float = 0.03) -> list[Pose2D]:
+    """Wheel odometry (N, 3) re-integrated with a drift injected: each step ``scale`` times
+    longer and turning ``yaw_per_m`` rad per metre more (a worn wheel, a soft tyre)."""
+    out = [Pose2D(*odom[0])]
+    for a, b in zip(odom[:-1], odom[1:]):
+        d = compose(inverse(Pose2D(*a)), Pose2D(*b))
+        out.append(compose(out[-1], Pose2D(d.x * scale, d.y * scale, d.yaw + yaw_per_m * math.hypot(d.x, d.y))))
+    return out

@@ -12,11 +12,10 @@ import pytest
 from hw.odometry import Pose2D
 from mission.jobs.map_quality import map_quality
 from mission.jobs.navigate import start_navigate
-from mission.jobs.survey import survey
+from mission.jobs.survey import drifted, survey
 from mission.runtime.config import load_config
 from mission.runtime.navigation import MapResetError, clear_map
 from nav.costmap.grid import INSCRIBED, UNKNOWN
-from nav.frames import compose, inverse
 from nav.slam.config import SlamConfig
 from nav.slam.mapper import Mapper
 from sim.world import load_default_world
@@ -59,10 +58,7 @@ def test_a_loop_closure_reduces_the_error_after_a_loop_with_injected_odometry_dr
     metre, and a front end that keeps only 1 m of local map (so, as in a long greenhouse, it
     cannot see back to where it started): the loop closures must pull the end of the drive back."""
     log, angles = surveyed["log"], surveyed["angles"]
-    odom = [Pose2D(*log["odom"][0])]
-    for a, b in zip(log["odom"][:-1], log["odom"][1:]):
-        d = compose(inverse(Pose2D(*a)), Pose2D(*b))
-        odom.append(compose(odom[-1], Pose2D(d.x * 1.02, d.y * 1.02, d.yaw + 0.03 * math.hypot(d.x, d.y))))
+    odom = drifted(log["odom"], scale=1.02, yaw_per_m=0.03)
     ends = {}
     for closing in (False, True):
         mapper = Mapper(SlamConfig(local_map_range=1.0, loop_closure=closing), Pose2D(0.115, 0.0, 0.0))
