@@ -59,14 +59,15 @@ class LoopCloser:
         return int(old[best]) if d[best] <= self.cfg.loop_search_radius else None
 
     def match(self, poses: np.ndarray, scans: list[np.ndarray], candidate: int, k: int) -> LoopMatch | None:
-        """Register keyframe ``k``'s scan against the candidate's submap; None if not accepted."""
+        """Register keyframe ``k``'s scan (``scans``: each keyframe's (N, 3) ``base_link``
+        points) against the candidate's submap; None if not accepted."""
         cfg = self.cfg
         lo, hi = max(0, candidate - SUBMAP_HALF_WIDTH), min(k, candidate + SUBMAP_HALF_WIDTH + 1)
         submap = np.vstack([transform_points(_pose(poses[i]), scans[i][:, :2]) for i in range(lo, hi)])
         voxels = VoxelHashMap(cfg.voxel_size, 1e6, cfg.max_points_per_voxel)
         voxels.add_points(np.column_stack([submap, np.zeros(len(submap))]))
         guess = _pose(poses[k])
-        source = scans[k]
+        source = np.asarray(scans[k], dtype=np.float64)
         result = from_matrix(self.registration.align_points_to_map(source, voxels, to_matrix(guess),
                                                                    MATCH_GATE, MATCH_GATE / 3))
         correction = distance(result, guess)

@@ -130,7 +130,7 @@ class Mapper:
             self.graph.add_edge(k - 1, k, compose(inverse(prev), lo), ODOMETRY_INFORMATION)
             self._travel.append(self._travel[-1] + distance(prev, lo))
         self._kf_lo.append(lo)
-        self._kf_points.append(points)
+        self._kf_points.append(points.astype(np.float32))
         self._close_loop(len(self.graph) - 1)
 
     def _close_loop(self, k: int) -> None:
