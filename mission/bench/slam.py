@@ -155,3 +155,32 @@ def loop(config: LupinConfig) -> Sample:
         figures[f"{key}_end_m"] = round(float(np.hypot(*(poses[-1, :2] - truth[-1, :2]))), 4)
     figures["loop_closures"] = mapper.loop_closures
     return Sample(times, figures)
+
+
+GENERATED_SEEDS = range(1, 6)
+
+
+@benchmark("slam.generated")
+def generated(config: LupinConfig) -> Sample:
+    """The survey in five generated greenhouses (``lupin sim generate`` 3 rows x 5 pots, seeds
+    1..5): worst trajectory error and map figures over them. Times are wall ms per survey."""
+    from mission.runtime.config import with_seed
+    from sim.generate import generate_world
+
+    times, ate_m, recall, precision, reached = [], [], [], [], 0
+    for seed in GENERATED_SEEDS:
+        world = generate_world(3, 5, seed)
+        t0 = time.perf_counter()
+        run, log = survey(world, with_seed(config, seed))
+        times.append((time.perf_counter() - t0) * 1000.0)
+        try:
+            a = log.arrays()
+            ate_m.append(_ate(a["slam"], a["truth"]))
+            q = map_quality(run.nav.localisation.occupancy, world, run.spawn)
+            recall.append(q.recall)
+            precision.append(q.precision)
+            reached += log.outcomes.count("succeeded") == len(log.outcomes)
+        finally:
+            run.close()
+    return Sample(times, {"worlds": len(times), "all_goals_reached": reached, "worst_ours_m": max(ate_m),
+                          "worst_recall": round(min(recall), 4), "worst_precision": round(min(precision), 4)})
