@@ -1,15 +1,23 @@
-"""Nav2's OmniMotionModel: sample how each particle moved, given the wheel odometry's motion.
+"""Nav2's OmniMotionModel: sample where each particle went, given the wheel odometry's step.
 
-The seed's reason for it: a DiffDrive model would treat the mecanum base's real lateral motion
-as noise and penalise it. The odometry's step (from pose ``a`` to pose ``b``) is a translation
-along a bearing plus a rotation; each particle moves by that translation along the same
-bearing *in its own heading*, plus a sideways strafe, each perturbed:
+The seed picks it because a DiffDrive model would treat the mecanum base's real lateral
+motion as noise. The odometry step from pose ``a`` to pose ``b`` (odom frame) is a
+translation ``d`` along a bearing taken relative to ``a``'s heading, plus a rotation ``r``.
+Each particle replays that translation along the same relative bearing in its *own* heading,
+plus a sideways strafe, all three perturbed by zero-mean Gaussians whose variances grow with
+the step, as Nav2 writes them:
 
-    trans ~ N(d,   alpha3 d^2 + alpha1 r^2)      (as Nav2 writes the variances)
-    rot   ~ N(r,   alpha4 d^2 + alpha2 r^2)
-    strafe~ N(0,   alpha1 r^2 + alpha5 d^2)
+    trans  = d + N(0, alpha3 d^2 + alpha4 r^2)
+    rot    = r + N(0, alpha1 r^2 + alpha2 d^2)
+    strafe = 0 + N(0, alpha4 r^2 + alpha5 d^2)
 
-with d the distance and r the rotation of the step. Vectorised over the particles.
+    x += trans cos(bearing) + strafe sin(bearing)
+    y += trans sin(bearing) - strafe cos(bearing)
+    yaw += rot
+
+``d`` being the straight chord of the step, a step that curves is replayed as its chord,
+which is what Nav2 does too (the filter updates every 0.25 m, where the difference is nil).
+Vectorised over the particles; the caller owns the random generator, so a run repeats.
 """
 from __future__ import annotations
 
@@ -20,18 +28,25 @@ import numpy as np
 from hw.odometry import Pose2D, wrap_angle
 
 
-def sample_motion(particles: np.ndarray, a: Pose2D, b: Pose2D, alphas, rng: np.random.Generator) -> None:
-    """Move ``particles`` (N, 3) in place by the odometry step ``a -> b`` (odom frame)."""
+def wrap(a: np.ndarray) -> np.ndarray:
+    """Angles wrapped to [-pi, pi), vectorised."""
+    return np.remainder(a + math.pi, 2.0 * math.pi) - math.pi
+
+
+def sample_motion(particles: np.ndarray, a: Pose2D, b: Pose2D, alphas, rng: np.random.Generator) -> np.ndarray:
+    """Move ``particles`` (N, 3: x, y, yaw in the map frame) in place by the odometry step
+    ``a -> b`` (two odom-frame poses) and return them."""
     a1, a2, a3, a4, a5 = alphas
     dx, dy = b.x - a.x, b.y - a.y
-    d = math.hypot(dx, dy)
+    d2 = dx * dx + dy * dy
     r = wrap_angle(b.yaw - a.yaw)
     n = len(particles)
-    trans = d + rng.normal(0.0, math.sqrt(a3 * d * d + a1 * r * r), n)
-    rot = r + rng.normal(0.0, math.sqrt(a4 * d * d + a2 * r * r), n)
-    strafe = rng.normal(0.0, math.sqrt(a1 * r * r + a5 * d * d), n)
-    bearing = (math.atan2(dy, dx) - a.yaw if d > 1e-9 else 0.0) + particles[:, 2]
+    trans = math.sqrt(d2) + rng.normal(0.0, 1.0, n) * math.sqrt(a3 * d2 + a4 * r * r)
+    rot = r + rng.normal(0.0, 1.0, n) * math.sqrt(a1 * r * r + a2 * d2)
+    strafe = rng.normal(0.0, 1.0, n) * math.sqrt(a4 * r * r + a5 * d2)
+    bearing = wrap_angle(math.atan2(dy, dx) - a.yaw) + particles[:, 2]
     c, s = np.cos(bearing), np.sin(bearing)
     particles[:, 0] += trans * c + strafe * s
     particles[:, 1] += trans * s - strafe * c
-    particles[:, 2] = np.remainder(particles[:, 2] + rot + math.pi, 2 * math.pi) - math.pi
+    particles[:, 2] = wrap(particles[:, 2] + rot)
+    return particles
