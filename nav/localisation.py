@@ -23,6 +23,15 @@ if TYPE_CHECKING:
 
 
 class Localisation(Protocol):
+    rate: float
+    """Hz the runtime ticks it at."""
+
+    def tick(self, now: float) -> None:
+        """Take in what arrived since the last beat (scans, odometry)."""
+
+    def close(self) -> None:
+        """Release what it holds (SLAM's worker process)."""
+
     def map_to_odom(self) -> Pose2D:
         """The current ``map -> odom`` transform."""
 
@@ -35,6 +44,14 @@ class Localisation(Protocol):
 
 class OdometryOnly:
     """``map -> odom`` held at identity: the map frame is the start pose."""
+
+    rate = 1.0
+
+    def tick(self, now: float) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
 
     def map_to_odom(self) -> Pose2D:
         return Pose2D()

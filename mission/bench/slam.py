@@ -14,15 +14,18 @@ import time
 import numpy as np
 from kiss_icp.kiss_icp import KissICP
 
+from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
 from mission.bench import Sample, benchmark
 from mission.jobs.map_quality import map_quality
 from mission.jobs.survey import drifted, survey
-from mission.runtime.config import LupinConfig
+from mission.runtime.config import LupinConfig, with_seed
 from nav.frames import from_matrix
 from nav.slam.lidar_odometry import kiss_config
 from nav.slam.mapper import Mapper
 from nav.slam.scan_points import scan_points
+from nav.slam.supervisor import SlamSupervisor
+from sim.generate import generate_world
 from sim.world import load_default_world
 
 _CACHE: dict = {}
@@ -107,9 +110,6 @@ def update(config: LupinConfig) -> Sample:
 
 def _round_trip_overhead(config: LupinConfig, angles: np.ndarray, log: dict) -> list[float]:
     """Send the scans to a real worker one at a time and time each reply."""
-    from hw.interfaces import LidarScan
-    from nav.slam.supervisor import SlamSupervisor
-
     cfg = config.nav.mapping
     state = {"i": 0}
     sup = SlamSupervisor(cfg, Pose2D(*config.nav.navigator.lidar_mount),
@@ -164,9 +164,6 @@ GENERATED_SEEDS = range(1, 6)
 def generated(config: LupinConfig) -> Sample:
     """The survey in five generated greenhouses (``lupin sim generate`` 3 rows x 5 pots, seeds
     1..5): worst trajectory error and map figures over them. Times are wall ms per survey."""
-    from mission.runtime.config import with_seed
-    from sim.generate import generate_world
-
     times, ate_m, recall, precision, reached = [], [], [], [], 0
     for seed in GENERATED_SEEDS:
         world = generate_world(3, 5, seed)

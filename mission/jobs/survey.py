@@ -36,6 +36,11 @@ class SurveyLog:
     """Scan stamp -> SLAM's online map pose for it (the worker's reply)."""
     outcomes: list[str] = field(default_factory=list)
 
+    def take_reply(self, reply) -> None:
+        """Note SLAM's online estimate for the scan ``reply`` answers (None: no reply yet)."""
+        if reply is not None:
+            self.slam[reply.stamp] = (reply.pose.x, reply.pose.y, reply.pose.yaw)
+
     def arrays(self) -> dict[str, np.ndarray]:
         """Scans that SLAM answered, as aligned arrays."""
         keep = [i for i, s in enumerate(self.stamps) if s in self.slam]
@@ -52,9 +57,7 @@ def record(run: NavigateRun, log: SurveyLog) -> None:
     sim, robot = run.sim, run.robot
 
     def trace(now: float) -> None:
-        reply = slam.last_reply
-        if reply is not None:
-            log.slam[reply.stamp] = (reply.pose.x, reply.pose.y, reply.pose.yaw)
+        log.take_reply(slam.last_reply)
         scan = robot.hal.lidar.latest_scan()
         if scan is None or (log.stamps and scan.stamp <= log.stamps[-1]):
             return
@@ -68,18 +71,16 @@ def record(run: NavigateRun, log: SurveyLog) -> None:
     robot.scheduler.every("survey.trace", 10.0, trace)
 
 
-def survey(world: World, config: LupinConfig, run: NavigateRun | None = None) -> tuple[NavigateRun, SurveyLog]:
+def survey(world: World, config: LupinConfig) -> tuple[NavigateRun, SurveyLog]:
     """Drive the survey; returns the run (still open: the caller closes it) and its log."""
-    run = run or start_navigate(world, config)
+    run = start_navigate(world, config)
     log = SurveyLog()
     record(run, log)
     for pot in world.pots:
         log.outcomes.append(run.go(approach_pose(pot.x, pot.y, pot.facing), SURVEY_TIMEOUT))
     log.outcomes.append(run.go(Pose2D(world.spawn.x, world.spawn.y, world.spawn.yaw), SURVEY_TIMEOUT))
-    run.robot.scheduler.step()  # collect the last reply
-    record_last = run.nav.localisation.last_reply
-    if record_last is not None:
-        log.slam[record_last.stamp] = (record_last.pose.x, record_last.pose.y, record_last.pose.yaw)
+    run.robot.scheduler.step()  # the reply to the last scan arrives one tick later
+    log.take_reply(run.nav.localisation.last_reply)
     return run, log
 
 

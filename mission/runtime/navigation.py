@@ -21,7 +21,8 @@ from nav.readiness import Readiness
 from nav.slam.supervisor import SlamSupervisor
 
 AUTO = "auto"
-LOCALISATION_RATE = 10.0
+READINESS_RATE = 10.0
+"""The cascade is checked at the lidar's rate: a stage fires within a scan of its event."""
 
 
 class MapResetError(InputError):
@@ -47,21 +48,18 @@ def attach_navigation(robot: Robot, localisation: Localisation | None = None) ->
     def static_map(m: OccupancyMap) -> None:
         gcm.set_static(m.occupancy, m.resolution, m.origin_x, m.origin_y)
 
-    localisation = localisation or get_localisation(cfg, odom_pose, scan, static_map,
-                                                    getattr(robot.hal.clock, "deterministic", False))
+    localisation = localisation or get_localisation(cfg, odom_pose, scan, static_map, robot.hal.clock.deterministic)
     readiness = Readiness({"scans": lambda: scan() is not None, "map": localisation.has_map,
                            "transform": localisation.ready}, cfg.navigator.readiness_timeout)
     nav = Navigator(cfg, sources, localisation, local_costmap(cfg.costmap), gcm, NavfnPlanner(cfg.planner),
                     MppiController(cfg.mppi, cfg.costmap), readiness)
     sched = robot.scheduler
-    if hasattr(localisation, "tick"):
-        sched.every("nav.localisation", getattr(localisation, "rate", LOCALISATION_RATE), localisation.tick)
-    sched.every("nav.readiness", LOCALISATION_RATE, readiness.tick)
+    sched.every("nav.localisation", localisation.rate, localisation.tick)
+    sched.every("nav.readiness", READINESS_RATE, readiness.tick)
     sched.every("nav.local_costmap", cfg.navigator.local_costmap_rate, nav.tick_local_costmap)
     sched.every("nav.planner", cfg.navigator.global_costmap_rate, nav.tick_planner)
     sched.every("nav.controller", cfg.mppi.frequency, nav.tick_control)
-    if hasattr(localisation, "close"):
-        robot.closers.append(localisation.close)
+    robot.closers.append(localisation.close)
     return nav
 
 

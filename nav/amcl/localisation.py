@@ -42,6 +42,9 @@ class AmclLocalisation:
     def map_to_odom(self) -> Pose2D:
         return self._map_to_odom
 
+    def close(self) -> None:
+        """Nothing to release: the filter lives in this process."""
+
     def has_map(self) -> bool:
         return True
 
