@@ -39,6 +39,11 @@ def wrap_angle(a: float) -> float:
     return math.pi if w == -math.pi else w
 
 
+def wrap_angles(a: np.ndarray) -> np.ndarray:
+    """``wrap_angle`` for arrays: [-pi, pi), vectorised."""
+    return np.remainder(a + math.pi, 2.0 * math.pi) - math.pi
+
+
 class WheelOdometry:
     """Dead reckoning from the four wheel speeds through the mecanum forward kinematics."""
 

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from hw.odometry import Pose2D, wrap_angle
+from hw.odometry import Pose2D, wrap_angle, wrap_angles
 
 
 def compose(a: Pose2D, b: Pose2D) -> Pose2D:
@@ -36,7 +36,7 @@ def transform_path(t: Pose2D, path: np.ndarray) -> np.ndarray:
     """Poses (N, 3) of (x, y, yaw) in frame ``t``, expressed in ``t``'s parent frame."""
     out = np.empty_like(np.asarray(path, dtype=np.float64))
     out[:, :2] = transform_points(t, path[:, :2])
-    out[:, 2] = np.remainder(path[:, 2] + t.yaw + math.pi, 2 * math.pi) - math.pi
+    out[:, 2] = wrap_angles(path[:, 2] + t.yaw)
     return out
 
 

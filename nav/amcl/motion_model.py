@@ -25,12 +25,7 @@ import math
 
 import numpy as np
 
-from hw.odometry import Pose2D, wrap_angle
-
-
-def wrap(a: np.ndarray) -> np.ndarray:
-    """Angles wrapped to [-pi, pi), vectorised."""
-    return np.remainder(a + math.pi, 2.0 * math.pi) - math.pi
+from hw.odometry import Pose2D, wrap_angle, wrap_angles
 
 
 def sample_motion(particles: np.ndarray, a: Pose2D, b: Pose2D, alphas, rng: np.random.Generator) -> np.ndarray:
@@ -48,5 +43,5 @@ def sample_motion(particles: np.ndarray, a: Pose2D, b: Pose2D, alphas, rng: np.r
     c, s = np.cos(bearing), np.sin(bearing)
     particles[:, 0] += trans * c + strafe * s
     particles[:, 1] += trans * s - strafe * c
-    particles[:, 2] = wrap(particles[:, 2] + rot)
+    particles[:, 2] = wrap_angles(particles[:, 2] + rot)
     return particles

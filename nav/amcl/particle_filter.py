@@ -34,10 +34,10 @@ from typing import Optional
 import numpy as np
 
 from hw.interfaces import LidarScan
-from hw.odometry import Pose2D, wrap_angle
+from hw.odometry import Pose2D, wrap_angle, wrap_angles
 from nav.amcl.config import AmclConfig
 from nav.amcl.likelihood_field import LikelihoodField
-from nav.amcl.motion_model import sample_motion, wrap
+from nav.amcl.motion_model import sample_motion
 from nav.frames import compose, inverse
 from nav.occupancy import OccupancyMap
 
@@ -63,7 +63,7 @@ class ParticleFilter:
         std = np.sqrt(np.asarray(cov, np.float64))
         self.particles = np.column_stack([pose.x + std[0] * self.rng.normal(size=n),
                                           pose.y + std[1] * self.rng.normal(size=n),
-                                          wrap(pose.yaw + std[2] * self.rng.normal(size=n))])
+                                          wrap_angles(pose.yaw + std[2] * self.rng.normal(size=n))])
         self.log_weights = np.zeros(n)
         self.scans = 0
         """Scans integrated since ``initialise``."""
@@ -109,7 +109,7 @@ class ParticleFilter:
         mean = self.estimate()
         dx, dy = self.particles[:, 0] - mean.x, self.particles[:, 1] - mean.y
         cov = np.array([[w @ (dx * dx), w @ (dx * dy)], [w @ (dx * dy), w @ (dy * dy)]])
-        dyaw = wrap(self.particles[:, 2] - mean.yaw)
+        dyaw = wrap_angles(self.particles[:, 2] - mean.yaw)
         return math.sqrt(max(float(np.linalg.eigvalsh(cov)[-1]), 0.0)), math.sqrt(float(w @ (dyaw * dyaw)))
 
     def weights(self) -> np.ndarray:
@@ -187,7 +187,7 @@ class ParticleFilter:
             self._w_slow = self._w_fast = 0.0
         if not self.converged:
             self.particles += self.rng.normal(size=self.particles.shape) * self.config.roughening
-            self.particles[:, 2] = wrap(self.particles[:, 2])
+            self.particles[:, 2] = wrap_angles(self.particles[:, 2])
 
     def _random_poses(self, k: int) -> np.ndarray:
         """``k`` poses uniform over the map's free cells, any heading (Nav2's uniform pose)."""
