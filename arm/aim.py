@@ -140,3 +140,13 @@ def sample_reachable_targets(n: int, seed: int, kinematics: KinematicsConfig, co
         p, d = camera_ray(q, kinematics)
         out.append(p + rng.uniform(config.min_range + margin, config.max_range - margin) * d)
     return out
+
+
+def view_target(q, k: KinematicsConfig, height: float) -> np.ndarray | None:
+    """Where the optical axis at joint angles ``q`` meets the horizontal plane ``height`` m
+    above base_link (None when it does not look down at it): the spot a preset frames, which
+    the patrol re-aims at when the robot stopped off its ideal pose."""
+    p, d = camera_ray(q, k)
+    if d[2] >= -1e-6 or p[2] <= height:
+        return None
+    return p + d * ((height - p[2]) / d[2])

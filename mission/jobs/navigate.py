@@ -13,10 +13,11 @@ from typing import Callable
 
 from hw.odometry import Pose2D
 from mission.runtime.config import LupinConfig
-from mission.runtime.navigation import attach_navigation
+from mission.runtime.navigation import attach_navigation, final_map
 from mission.runtime.sim_runtime import SimRuntime, start_sim_runtime
 from nav.frames import compose, inverse, yaw_error
 from nav.navigator import Navigator
+from nav.occupancy import OccupancyMap
 from sim.world import World
 
 TRACE_RATE = 10.0
@@ -75,6 +76,9 @@ class NavigateRun(SimRuntime):
     def truth_error(self, goal_world: Pose2D) -> tuple[float, float]:
         t = self.sim.truth()
         return math.hypot(t.x - goal_world.x, t.y - goal_world.y), yaw_error(t, goal_world)
+
+    def final_map(self) -> OccupancyMap | None:
+        return final_map(self.nav, self.robot.scheduler)
 
     @property
     def distance(self) -> float:

@@ -99,13 +99,9 @@ def map_world(world: World, config: LupinConfig) -> Mapped:
     config = config.model_copy(update={"nav": config.nav.model_copy(update={"slam": True})})
     run, log = survey(world, config)
     try:
-        slam = run.nav.localisation
-        slam.request_map()
-        end = run.now + 2.0 / slam.rate  # sent on the next tick, back on the one after
-        while run.now < end:
-            run.robot.scheduler.step()
-        reply = slam.last_reply
-        return Mapped(slam.occupancy, log.outcomes, run.now, reply.keyframes, reply.loop_closures)
+        occupancy = run.final_map()
+        reply = run.nav.localisation.last_reply
+        return Mapped(occupancy, log.outcomes, run.now, reply.keyframes, reply.loop_closures)
     finally:
         run.close()
 

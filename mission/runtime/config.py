@@ -19,6 +19,7 @@ from arm.config import ArmConfig
 from hw.config import HwConfig
 from hw.errors import InputError
 from hw.input_file import read_yaml
+from mission.patrol.config import PatrolConfig
 from nav.config import NavConfig
 from perception.config import PerceptionConfig
 from sim.config import SimConfig
@@ -42,6 +43,8 @@ class LupinConfig(BaseModel):
     """The flower detector, the tag reader and the camera pipeline."""
     sim: SimConfig = SimConfig()
     """The MuJoCo greenhouse backend."""
+    patrol: PatrolConfig = PatrolConfig()
+    """The patrol mission: its beat, the waits around the cameras, what counts as a pot's tag."""
 
 
 def _merge(base: dict, override: Mapping) -> dict:

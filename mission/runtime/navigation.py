@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from hw.errors import InputError
 from mission.runtime.robot import Robot
+from mission.runtime.scheduler import Scheduler
 from nav.costmap.layered import global_costmap, local_costmap
 from nav.localisation import Localisation, get_localisation
 from nav.mppi.controller import MppiController
@@ -73,3 +74,14 @@ def clear_map(nav: Navigator, now: float) -> int:
     nav.local_costmap.clear()
     nav.global_costmap.clear(static=True)
     return nav.localisation.reset(now)
+
+
+def final_map(nav: Navigator, scheduler: Scheduler) -> OccupancyMap | None:
+    """SLAM's map as it stands now (asked for, then the scheduler run until it is back: sent on
+    the next localisation tick, answered on the one after); None when not mapping."""
+    slam = nav.localisation
+    if not isinstance(slam, SlamSupervisor):
+        return None
+    slam.request_map()
+    scheduler.run_for(2.0 / slam.rate)
+    return slam.occupancy

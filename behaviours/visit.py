@@ -1,0 +1,34 @@
+"""What the leaves of one pot's branch find out, gathered for the report.
+
+One :class:`PotVisit` per pot of the mission, created with the tree and filled in as its leaves
+run: navigation attempts and the pose the robot believed it reached, the wrist frame and what
+the flower detector made of it, the front frame and the tags read in it, and every step that
+failed with its reason. The report (``mission.patrol.report``) turns it into JSON; nothing here
+decides what is an anomaly.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from hw.odometry import Pose2D
+from perception.camera_pipeline import Frame
+from perception.detections import FlowerFrame, TagRead
+
+
+@dataclass
+class PotVisit:
+    id: str
+    attempts: int = 0
+    """Navigation attempts started for this pot."""
+    arrived: Pose2D | None = None
+    """The robot's map pose (its belief) when the approach succeeded."""
+    wrist: Frame | None = None
+    flower: FlowerFrame | None = None
+    """The detector's reading of ``wrist``; None when no wrist frame was taken."""
+    front: Frame | None = None
+    tags: tuple[TagRead, ...] = ()
+    """Every whitelisted tag read in ``front``, nearest first."""
+    failures: dict[str, str] = field(default_factory=dict)
+    """Step -> why it failed ('approach', 'arm', 'wrist', 'front')."""
+    done: bool = False
+    """The pot's branch has finished (inspected or failed) and been recorded."""

@@ -1,0 +1,144 @@
+"""The `lupin patrol` job: the mission tree over the whole stack, and its report directory.
+
+A robot with navigation (sim or hardware), its two camera pipelines, the patrol tree ticking on
+the scheduler at ``patrol.tick_rate``, and the report directory: ``config.yaml`` first (so even
+a run killed at once says how it was configured), ``report.json`` rewritten after every pot with
+the pot's images, and at the end ``map.yaml``/``map.pgm`` (SLAM's map) and ``run.png``.
+
+On the sim, ground truth is used for judging only: each pot's ``truth_error``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+from py_trees.common import Status
+
+from hw.odometry import Pose2D
+from mission.jobs.nav_picture import write_picture
+from mission.jobs.navigate import NavigateRun, start_navigate
+from mission.patrol.climate import ClimateSource, NoClimate, WorldClimate
+from mission.patrol.mission_file import Mission
+from mission.patrol.report import PatrolReport, pose_error
+from mission.patrol.run_picture import PotMark, draw_run
+from mission.patrol.tree import PatrolTree
+from mission.runtime.config import LupinConfig, save_config
+from mission.runtime.navigation import final_map
+from mission.runtime.robot import Robot
+from nav.map_io import save_map
+from nav.navigator import Navigator
+from nav.occupancy import OccupancyMap
+from perception.camera_pipeline import camera_pipelines
+from perception.config import CameraModelConfig, PerceptionConfig
+from perception.tag_reader import TagReader
+from sim.world import World
+
+TRACE_RATE = 10.0
+"""The driven path (the robot's map pose) is sampled at the lidar's 10 Hz for the picture."""
+
+
+def sim_perception(config: LupinConfig) -> PerceptionConfig:
+    """Perception with the sim cameras' intrinsics (their size and field of view): in the sim
+    the camera *is* its model, so the tag reader's K comes from there, not from a copy."""
+    cam = config.sim.camera
+    front = CameraModelConfig(width=cam.width, height=cam.height, fovy_deg=cam.front_fovy_deg)
+    wrist = CameraModelConfig(width=cam.width, height=cam.height, fovy_deg=cam.wrist_fovy_deg)
+    p = config.perception
+    return p.model_copy(update={"tag": p.tag.model_copy(update={"camera": front}), "wrist_camera": wrist})
+
+
+@dataclass
+class PatrolRun:
+    robot: Robot
+    nav: Navigator
+    tree: PatrolTree
+    report: PatrolReport
+    close: Callable[[], None]
+    path: list[tuple[float, float]] = field(default_factory=list)
+    """The robot's map pose as it believed it, at 10 Hz."""
+    sim: NavigateRun | None = None
+    """The sim under it, for judging only (truth); None on the robot."""
+
+    @property
+    def done(self) -> bool:
+        return self.tree.root.status in (Status.SUCCESS, Status.FAILURE)
+
+    def outcome(self) -> str:
+        if self.tree.root.status is not Status.SUCCESS or "home" in self.tree.finish_failures:
+            return "failed"
+        return "completed"
+
+    def step(self) -> None:
+        self.robot.scheduler.step()
+
+    def finish(self, outcome: str) -> dict:
+        """The end of a run: SLAM's map, the picture, and the report's final write."""
+        occupancy = final_map(self.nav, self.robot.scheduler)
+        directory = self.report.directory
+        if occupancy is not None:
+            save_map(occupancy.cropped(), directory / "map.yaml")
+        write_picture(directory / "run.png", self.picture(occupancy))
+        extra = {"finish_failures": self.tree.finish_failures} if self.tree.finish_failures else {}
+        return self.report.finish(outcome, **extra)
+
+    def picture(self, occupancy: OccupancyMap | None) -> np.ndarray:
+        """The map, the path the robot believed it drove, every pot by its result, thumbnails."""
+        marks = []
+        for pot in self.tree.mission.pots:
+            entry = self.report.pots.get(pot.id, {"status": "skipped"})
+            kinds = [a["kind"] for a in self.report.anomalies if a["pot"] == pot.id]
+            color = (entry.get("flower") or {}).get("color", "")
+            wrist = self.tree.visits[pot.id].wrist
+            marks.append(PotMark(pot.id, pot.x, pot.y, entry["status"], bool(kinds),
+                                 " ".join([pot.id, color, *kinds]).strip(), wrist.image if wrist is not None else None))
+        home = self.tree.mission.home
+        return draw_run(occupancy, np.array(self.path, dtype=float).reshape(-1, 2), marks, (home.x, home.y))
+
+
+def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinConfig, perception: PerceptionConfig,
+                 directory: Path, wall_now: Callable[[], float], close: Callable[[], None],
+                 climate: ClimateSource | None = None,
+                 truth_error: Callable[[Pose2D], dict[str, float]] | None = None) -> PatrolRun:
+    """Schedule the tree (and the path trace) on a running robot with navigation."""
+    save_config(config, directory)
+    clock = robot.scheduler.clock
+    cameras = camera_pipelines(robot.hal.cameras, clock, perception)
+    report = PatrolReport(directory, mission, config.patrol, climate or NoClimate(), clock.now, wall_now,
+                          lambda: robot.base.odometry.distance, truth_error)
+    tree = PatrolTree(mission, robot, nav, cameras, report, TagReader(perception.tag), config.patrol)
+    run = PatrolRun(robot, nav, tree, report, close)
+
+    def trace(now: float) -> None:
+        pose = nav.map_pose()
+        run.path.append((pose.x, pose.y))
+
+    robot.scheduler.every("patrol.trace", TRACE_RATE, trace)
+    robot.scheduler.every("mission", config.patrol.tick_rate, lambda now: tree.root.tick_once())
+    return run
+
+
+def start_sim_patrol(world: World, mission: Mission, config: LupinConfig, directory: Path,
+                     wall_now: Callable[[], float]) -> PatrolRun:
+    """The patrol on the simulated greenhouse: the world's climate, truth for judging."""
+    sim_run = start_navigate(world, config)
+
+    def truth_error(goal: Pose2D) -> dict[str, float]:
+        return pose_error(sim_run.to_map(sim_run.sim.truth()), goal)
+
+    run = start_patrol(sim_run.robot, sim_run.nav, mission, config, sim_perception(config), directory, wall_now,
+                       sim_run.close, WorldClimate(world), truth_error)
+    run.sim = sim_run
+    return run
+
+
+def run_to_end(run: PatrolRun, on_step: Callable[[PatrolRun], None] = lambda r: None) -> dict:
+    """Tick until the tree ends, then finish; the run is closed whatever happens."""
+    try:
+        while not run.done:
+            run.step()
+            on_step(run)
+        return run.finish(run.outcome())
+    finally:
+        run.close()

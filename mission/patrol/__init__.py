@@ -1,0 +1,1 @@
+"""The patrol: the mission file, the tree, the report."""

@@ -1,0 +1,190 @@
+"""The patrol report (spec/report.md): one JSON document, rewritten atomically after every pot.
+
+What the leaves found (``behaviours.visit.PotVisit``) becomes a pot entry here, and this is the
+one place that decides what is an anomaly (the original's KIND_ANOMALY contract, left dead
+there, reference/upstream.md):
+
+==================  ==========================================================================
+kind                when
+==================  ==========================================================================
+unreachable         every navigation attempt failed; the pot is ``failed``
+arm_unavailable     the arm could not take the pot's inspection pose (latched servo, inactive
+                    controller): the flower is unknown, the tag is still read
+no_image            a camera gave no fresh frame in time (the step is recorded without it)
+no_bloom            the wrist frame shows no bloom
+bug                 a pest spot on a bloom
+no_tag              no tag within ``patrol.tag_max_distance`` of the front camera
+tag_mismatch        the pot's tag is not the one the mission expects
+==================  ==========================================================================
+
+Tags the front camera reads that the mission does not list are kept as ``discovered_tags`` with
+their map position (the original's DiscoveredTag, also dead there), merged per id.
+
+Every write goes to a temporary file in the same directory, then ``os.replace``: a reader (or a
+crash) sees the previous complete report or the new one, never half of one. Images are written
+the same way, before the report that names them.
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+from pathlib import Path
+from typing import Callable
+
+from behaviours.visit import PotVisit
+from hw.odometry import Pose2D
+from mission.patrol.climate import ClimateSource
+from mission.patrol.config import PatrolConfig
+from mission.patrol.mission_file import Mission, MissionPot
+from nav.frames import compose, yaw_error
+from perception.camera_pipeline import Frame
+from perception.detections import TagRead
+
+REPORT_NAME = "report.json"
+
+
+def write_atomic(path: Path, data: bytes) -> None:
+    """Write ``data`` to ``path`` through a temporary sibling and a rename."""
+    tmp = path.with_name(f".{path.name}.tmp")
+    with open(tmp, "wb") as f:
+        f.write(data)
+        f.flush()
+        os.fsync(f.fileno())
+    os.replace(tmp, path)
+
+
+def pose_error(reached: Pose2D, goal: Pose2D) -> dict[str, float]:
+    return {"xy": round(math.hypot(reached.x - goal.x, reached.y - goal.y), 4),
+            "yaw": round(abs(yaw_error(reached, goal)), 4)}
+
+
+class PatrolReport:
+    """The report being written: ``record`` a finished pot, ``finish`` with the outcome."""
+
+    def __init__(self, directory: Path, mission: Mission, config: PatrolConfig, climate: ClimateSource,
+                 runtime_now: Callable[[], float], wall_now: Callable[[], float], distance: Callable[[], float],
+                 truth_error: Callable[[Pose2D], dict[str, float]] | None = None):
+        self.directory = Path(directory)
+        self.directory.mkdir(parents=True, exist_ok=True)
+        self.path = self.directory / REPORT_NAME
+        self.mission, self.config, self.climate = mission, config, climate
+        self.runtime_now, self.wall_now, self.distance = runtime_now, wall_now, distance
+        self.truth_error = truth_error
+        self.t0, self.wall0 = runtime_now(), wall_now()
+        self.pots: dict[str, dict] = {}
+        self.anomalies: list[dict] = []
+        self.discovered: list[dict] = []
+        self.estop_events: list[dict] = []
+        self.outcome: str | None = None
+        self._listed_tags = {p.tag for p in mission.pots if p.tag is not None}
+
+    # --- pots ----------------------------------------------------------------------------
+    def pots_tag(self, visit: PotVisit) -> TagRead | None:
+        """The pot's own tag: the nearest read close enough to be on this pot's plate."""
+        return next((t for t in visit.tags if t.distance <= self.config.tag_max_distance), None)
+
+    def record(self, pot: MissionPot, visit: PotVisit, goal: Pose2D) -> None:
+        """A pot's branch has ended: its entry, its anomalies and images, then the report."""
+        inspected = visit.arrived is not None
+        anomalies: list[tuple[str, str]] = []
+        if not inspected:
+            anomalies.append(("unreachable", f"{visit.attempts} attempt(s): {visit.failures.get('approach', '')}"))
+        if "arm" in visit.failures:
+            anomalies.append(("arm_unavailable", visit.failures["arm"]))
+        for step in ("wrist", "front"):
+            if step in visit.failures:
+                anomalies.append(("no_image", f"{step} camera: {visit.failures[step]}"))
+        entry: dict = {"id": pot.id, "status": "inspected" if inspected else "failed",
+                       "attempts": visit.attempts, "tag_expected": pot.tag, "tag_read": None,
+                       "flower": None, "x": pot.x, "y": pot.y, "images": []}
+        if visit.failures:
+            entry["failures"] = dict(visit.failures)
+        if inspected:
+            entry["approach_error"] = pose_error(visit.arrived, goal)
+            if self.truth_error is not None:
+                entry["truth_error"] = self.truth_error(goal)
+        if visit.flower is not None:
+            f = visit.flower
+            entry["flower"] = {"color": f.flower, "blooms": f.count, "bug": f.bug, "confidence": round(f.confidence, 3)}
+            if f.flower == "none":
+                anomalies.append(("no_bloom", "no bloom in the wrist frame"))
+            if f.bug:
+                anomalies.append(("bug", f"dark spot on a {f.flower} bloom"))
+        if visit.front is not None:
+            tag = self.pots_tag(visit)
+            entry["tag_read"] = tag.id if tag is not None else None
+            if tag is None:
+                anomalies.append(("no_tag", f"no tag within {self.config.tag_max_distance:g} m of the front camera"))
+            elif pot.tag is not None and tag.id != pot.tag:
+                anomalies.append(("tag_mismatch", f"expected tag {pot.tag}, read {tag.id}"))
+        key = entry["tag_read"] if entry["tag_read"] is not None else pot.tag
+        climate = self.climate.reading(key) if key is not None else None
+        if climate:
+            entry["climate"] = climate
+        for name, frame in (("front", visit.front), ("wrist", visit.wrist)):
+            if frame is not None:
+                entry["images"].append(self._save_image(f"{pot.id}_{name}.jpg", frame))
+        self.pots[pot.id] = entry
+        self.anomalies.extend({"kind": k, "pot": pot.id, "detail": d} for k, d in anomalies)
+        visit.done = True
+        self.write()
+
+    def _save_image(self, name: str, frame: Frame) -> str:
+        write_atomic(self.directory / name, frame.jpeg)
+        return name
+
+    # --- tags seen en route ------------------------------------------------------------------
+    def saw(self, reads: tuple[TagRead, ...], robot: Pose2D) -> None:
+        """Tags read from the robot's map pose ``robot``: the unlisted ones near enough to place
+        become discovered tags (same id within ``discovered_merge``: one tag, averaged)."""
+        cfg = self.config
+        for read in reads:
+            if read.id in self._listed_tags or read.distance > cfg.discovered_max_distance:
+                continue
+            x, y = tag_in_map(read, robot, cfg.front_camera_mount)
+            for d in self.discovered:
+                if d["id"] == read.id and math.hypot(d["x"] - x, d["y"] - y) <= cfg.discovered_merge:
+                    n = d["sightings"]
+                    d["x"], d["y"], d["sightings"] = (d["x"] * n + x) / (n + 1), (d["y"] * n + y) / (n + 1), n + 1
+                    break
+            else:
+                self.discovered.append({"id": read.id, "x": x, "y": y, "sightings": 1})
+
+    # --- the document --------------------------------------------------------------------
+    def document(self) -> dict:
+        pots = [self.pots.get(p.id) or {"id": p.id, "status": "skipped", "attempts": 0, "tag_expected": p.tag,
+                                        "tag_read": None, "flower": None, "x": p.x, "y": p.y, "images": []}
+                for p in self.mission.pots] if self.outcome is not None else list(self.pots.values())
+        return {
+            "mission": self.mission.name,
+            "outcome": self.outcome,
+            "sim_time_s": round(self.runtime_now() - self.t0, 3),
+            "wall_time_s": round(self.wall_now() - self.wall0, 3),
+            "distance_m": round(self.distance(), 3),
+            "pots": pots,
+            "anomalies": self.anomalies,
+            "discovered_tags": [{"id": d["id"], "x": round(d["x"], 3), "y": round(d["y"], 3),
+                                 "sightings": d["sightings"]} for d in self.discovered],
+            "estop_events": self.estop_events,
+        }
+
+    def write(self) -> None:
+        write_atomic(self.path, json.dumps(self.document(), indent=2).encode())
+
+    def finish(self, outcome: str, **extra) -> dict:
+        """The final write: the outcome, and pots never reached marked ``skipped``."""
+        self.outcome = outcome
+        doc = self.document()
+        doc.update(extra)
+        write_atomic(self.path, json.dumps(doc, indent=2).encode())
+        return doc
+
+
+def tag_in_map(read: TagRead, robot: Pose2D, mount: tuple[float, float, float]) -> tuple[float, float]:
+    """A tag's centre in the map frame from its pose in the front camera (OpenCV axes: x right,
+    y down, z forward; the camera looks along base_link +x)."""
+    right, _, forward = read.position
+    p = compose(robot, Pose2D(mount[0] + forward, mount[1] - right, 0.0))
+    return p.x, p.y
+

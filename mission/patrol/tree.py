@@ -1,0 +1,199 @@
+"""The patrol as a py_trees tree: start-up gate, one branch per pot, then home.
+
+::
+
+    Lupin patrol                              Sequence
+      start-up                                  Timeout(patrol.startup_timeout)
+        heal controllers                          the boot heal, one non-blocking pass
+        navigation ready                          the readiness cascade (scans, map, transform)
+        arm to travel                             Timeout(arm_timeout)
+      patrol                                    Parallel: ends when the pots do
+        pots                                      Sequence, in the mission's order
+          P01                                       Selector: inspect, or record it failed
+            inspect P01                               Sequence
+              approach P01                              Retry(retries) > Timeout(nav_timeout) > NavigateTo
+              front camera P01                          Selector: ReadTags, or note no frame
+              wrist P01                                 Selector: arm to inspect (or aim) > DetectFlower,
+                                                                  or note what failed
+              record P01
+              stow arm P01                              Selector: arm to travel, or note it
+            P01 failed                                records the pot failed (unreachable)
+          ...
+        watch tags                                tags read en route (discovered_tags)
+      finish                                    Sequence
+        return home                               Selector: Retry > Timeout > NavigateTo, or note
+        park arm                                  Selector: arm to home, or note
+
+A failed pot is recorded and the patrol goes on: every pot branch succeeds. Only the start-up
+gate can fail the tree. The tag is read first, right at arrival, while the arm is still folded
+(the front camera does not need the arm).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+import py_trees
+from py_trees.behaviour import Behaviour
+from py_trees.common import ParallelPolicy, Status
+from py_trees.composites import Parallel, Selector, Sequence
+from py_trees.decorators import Retry
+
+from arm.aim import CameraAim, view_target
+from arm.presets import PRESETS, preset
+from behaviours.arm import MoveArm
+from behaviours.navigate import NavigateTo
+from behaviours.perceive import DetectFlower, ReadTags, WatchTags
+from behaviours.steps import Do, WaitUntil
+from behaviours.timeout import Timeout
+from behaviours.visit import PotVisit
+from hw.odometry import Pose2D
+from mission.patrol.config import PatrolConfig
+from mission.patrol.mission_file import Mission, MissionPot, visit_order
+from mission.patrol.report import PatrolReport
+from mission.runtime.heal import heal_controllers
+from mission.runtime.robot import Robot
+from nav.frames import compose, inverse
+from nav.navigator import Navigator
+from perception.camera_pipeline import CameraPipeline
+from perception.flower_detector import FlowerDetector
+from perception.tag_reader import TagReader
+
+
+@dataclass
+class PatrolTree:
+    """The tree and what its leaves share; ``root`` ticks on the runtime's scheduler."""
+
+    mission: Mission
+    robot: Robot
+    nav: Navigator
+    cameras: dict[str, CameraPipeline]
+    report: PatrolReport
+    tag_reader: TagReader
+    config: PatrolConfig = field(default_factory=PatrolConfig)
+    visits: dict[str, PotVisit] = field(default_factory=dict)
+    order: list[MissionPot] = field(default_factory=list)
+    finish_failures: dict[str, str] = field(default_factory=dict)
+    """'home' / 'park' -> why the end of the patrol did not go as planned."""
+    root: Behaviour | None = None
+
+    def __post_init__(self) -> None:
+        arm = self.robot.config.arm
+        self.aim = CameraAim(arm.kinematics, arm.ik)
+        self._inspect_view = view_target(PRESETS["inspect"], arm.kinematics, self.config.bloom_height)
+        self.detector = FlowerDetector(self.robot.config.perception.flower)
+        start = self.nav.map_pose()
+        self.order = visit_order(self.mission, (start.x, start.y))
+        self.visits = {p.id: PotVisit(p.id) for p in self.order}
+        self.root = self._build()
+
+    @property
+    def clock(self):
+        return self.robot.scheduler.clock
+
+    # --- goals ---------------------------------------------------------------------------
+    def approach_goal(self, pot: MissionPot) -> Pose2D:
+        return Pose2D(*self.mission.approach(pot))
+
+    def inspect_goal(self, pot: MissionPot) -> tuple[object, str]:
+        """``inspect`` from the ideal approach pose; from elsewhere, the IK pose that looks at
+        the spot ``inspect`` would have framed (falls back to ``inspect`` when unreachable)."""
+        ideal, here = self.approach_goal(pot), self.nav.map_pose()
+        off = compose(inverse(ideal), here)
+        if math.hypot(off.x, off.y) <= self.config.aim_xy and abs(off.yaw) <= self.config.aim_yaw:
+            return preset("inspect"), "inspect"
+        spot = compose(inverse(here), compose(ideal, Pose2D(self._inspect_view[0], self._inspect_view[1], 0.0)))
+        aimed = self.aim.aim(np.array([spot.x, spot.y, self._inspect_view[2]]))
+        return (aimed.q, "aim") if aimed.ok else (preset("inspect"), "inspect")
+
+    # --- building blocks -----------------------------------------------------------------
+    def _timed(self, child: Behaviour, duration: float) -> Timeout:
+        return Timeout(f"{child.name} (timeout)", child, self.clock, duration)
+
+    def _drive(self, name: str, goal: Callable[[], Pose2D], on_start: Callable[[], None] = lambda: None) -> Retry:
+        attempt = self._timed(NavigateTo(name, self.nav, goal, self.clock, on_start), self.mission.nav_timeout)
+        return Retry(f"{name} (x{self.mission.retries})", attempt, self.mission.retries)
+
+    def _arm(self, name: str, goal: Callable[[], tuple[object, str]]) -> Timeout:
+        return self._timed(MoveArm(name, self.robot.arm, goal), self.config.arm_timeout)
+
+    def _or_note(self, name: str, step: Behaviour, note: Callable[[str], None]) -> Selector:
+        """``step``, or, when it fails, ``note(why)`` and carry on."""
+        return Selector(name, memory=True, children=[step, Do(f"{name}: note failure", lambda: note(step.feedback_message))])
+
+    def _travel(self) -> tuple[object, str]:
+        return preset(self.config.travel_pose), self.config.travel_pose
+
+    # --- the tree ------------------------------------------------------------------------
+    def _build(self) -> Behaviour:
+        c, robot = self.config, self.robot
+        names = tuple(robot.config.hw.controllers)
+        startup = Sequence("start-up", memory=True, children=[
+            Do("heal controllers", lambda: heal_controllers(robot.controllers, names, self.clock, budget=0.0).healed is True),
+            WaitUntil("navigation ready", lambda: self.nav.readiness.active,
+                      lambda: self.nav.readiness.overdue(self.clock.now()) and self.nav.readiness.status(self.clock.now())),
+            self._arm("arm to travel", self._travel),
+        ])
+        pots = Sequence("pots", memory=True, children=[self._pot(p) for p in self.order])
+        watch = WatchTags("watch tags", self.cameras["front"], self.tag_reader,
+                          lambda frame, reads: self.report.saw(reads, self.nav.map_pose()))
+        patrol = Parallel("patrol", ParallelPolicy.SuccessOnSelected([pots]), children=[pots, watch])
+        note = self.finish_failures.__setitem__
+        finish = [self._or_note("park arm", self._arm("arm to home", lambda: (preset("home"), "home")),
+                                lambda why: note("park", why))]
+        if self.mission.return_home:
+            home = self.mission.home
+            finish.insert(0, self._or_note("return home", self._drive("drive home", lambda: Pose2D(home.x, home.y, home.yaw)),
+                                           lambda why: note("home", why)))
+        return Sequence("Lupin patrol", memory=True, children=[
+            self._timed(startup, c.startup_timeout), patrol, Sequence("finish", memory=True, children=finish)])
+
+    def _pot(self, pot: MissionPot) -> Behaviour:
+        c, visit = self.config, self.visits[pot.id]
+        cams, clock = self.cameras, self.clock
+
+        def fail(step: str) -> Callable[[str], None]:
+            return lambda why: visit.failures.__setitem__(step, why)
+
+        def arrived() -> None:
+            visit.arrived = self.nav.map_pose()
+
+        def count() -> None:
+            visit.attempts += 1
+
+        approach = self._drive(f"approach {pot.id}", lambda: self.approach_goal(pot), count)
+        front = self._or_note(f"front camera {pot.id}", self._timed(
+            ReadTags(f"read tag {pot.id}", cams["front"], self.tag_reader, visit, clock, c.settle), c.frame_timeout), fail("front"))
+        inspect = self._arm(f"arm to inspect {pot.id}", lambda: self.inspect_goal(pot))
+        look = self._timed(DetectFlower(f"detect flower {pot.id}", cams["wrist"], self.detector, visit, clock, c.settle),
+                           c.frame_timeout)
+        def note_wrist() -> None:
+            if inspect.status is Status.FAILURE:
+                visit.failures["arm"] = inspect.feedback_message
+            else:
+                visit.failures["wrist"] = look.feedback_message
+
+        def pot_failed() -> None:
+            visit.failures.setdefault("approach", approach.decorated.feedback_message)
+            if not visit.done:
+                self.report.record(pot, visit, self.approach_goal(pot))
+
+        wrist = Selector(f"wrist {pot.id}", memory=True, children=[
+            Sequence(f"look {pot.id}", memory=True, children=[inspect, look]), Do(f"wrist {pot.id}: note failure", note_wrist)])
+        record = Do(f"record {pot.id}", lambda: self.report.record(pot, visit, self.approach_goal(pot)))
+        stow = self._or_note(f"stow arm {pot.id}", self._arm(f"arm to travel {pot.id}", self._travel), fail("stow"))
+        inspect_pot = Sequence(f"inspect {pot.id}", memory=True, children=[
+            approach, Do(f"arrived {pot.id}", arrived), front, wrist, record, stow])
+        failed = Do(f"{pot.id} failed", pot_failed)
+        return Selector(pot.id, memory=True, children=[inspect_pot, failed])
+
+    # --- reading it ----------------------------------------------------------------------
+    def current_step(self) -> str:
+        """The deepest running behaviour's name (the progress display's 'current step')."""
+        tip = self.root.tip() if self.root is not None else None
+        return tip.name if tip is not None else ""
+
+    def render(self) -> str:
+        return py_trees.display.unicode_tree(self.root, show_status=True)
