@@ -25,6 +25,7 @@ from mission.cli.detect import detect
 from mission.cli.heal import heal
 from mission.cli.hw import hw_app
 from mission.cli.map import map_app
+from mission.cli.patrol import patrol
 from mission.cli.sim import run_config, sim_app
 
 app = typer.Typer(
@@ -40,6 +41,7 @@ app.add_typer(hw_app, name="hw")
 app.add_typer(map_app, name="map")
 app.command("detect")(detect)
 app.command("heal")(heal)
+app.command("patrol")(patrol)
 
 
 @app.callback()

@@ -16,6 +16,7 @@ from typing import Callable
 import numpy as np
 from py_trees.common import Status
 
+from hw.backend import HwBackend
 from hw.odometry import Pose2D
 from mission.jobs.nav_picture import write_picture
 from mission.jobs.navigate import NavigateRun, start_navigate
@@ -25,8 +26,8 @@ from mission.patrol.report import PatrolReport, pose_error
 from mission.patrol.run_picture import PotMark, draw_run
 from mission.patrol.tree import PatrolTree
 from mission.runtime.config import LupinConfig, save_config
-from mission.runtime.navigation import final_map
-from mission.runtime.robot import Robot
+from mission.runtime.navigation import attach_navigation, final_map
+from mission.runtime.robot import Robot, build_robot
 from nav.map_io import save_map
 from nav.navigator import Navigator
 from nav.occupancy import OccupancyMap
@@ -80,7 +81,10 @@ class PatrolRun:
         if occupancy is not None:
             save_map(occupancy.cropped(), directory / "map.yaml")
         write_picture(directory / "run.png", self.picture(occupancy))
+        (directory / "tree.txt").write_text(self.tree.render() + "\n")
         extra = {"finish_failures": self.tree.finish_failures} if self.tree.finish_failures else {}
+        if self.tree.root.status is Status.FAILURE:
+            extra["reason"] = self.tree.failure()
         return self.report.finish(outcome, **extra)
 
     def picture(self, occupancy: OccupancyMap | None) -> np.ndarray:
@@ -98,14 +102,15 @@ class PatrolRun:
 
 
 def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinConfig, perception: PerceptionConfig,
-                 directory: Path, wall_now: Callable[[], float], close: Callable[[], None],
+                 report_path: Path, wall_now: Callable[[], float], close: Callable[[], None],
                  climate: ClimateSource | None = None,
                  truth_error: Callable[[Pose2D], dict[str, float]] | None = None) -> PatrolRun:
     """Schedule the tree (and the path trace) on a running robot with navigation."""
-    save_config(config, directory)
+    report = Path(report_path)
+    save_config(config, report.parent)
     clock = robot.scheduler.clock
     cameras = camera_pipelines(robot.hal.cameras, clock, perception)
-    report = PatrolReport(directory, mission, config.patrol, climate or NoClimate(), clock.now, wall_now,
+    report = PatrolReport(report, mission, config.patrol, climate or NoClimate(), clock.now, wall_now,
                           lambda: robot.base.odometry.distance, truth_error)
     tree = PatrolTree(mission, robot, nav, cameras, report, TagReader(perception.tag), config.patrol)
     run = PatrolRun(robot, nav, tree, report, close)
@@ -115,11 +120,16 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
         run.path.append((pose.x, pose.y))
 
     robot.scheduler.every("patrol.trace", TRACE_RATE, trace)
-    robot.scheduler.every("mission", config.patrol.tick_rate, lambda now: tree.root.tick_once())
+    def tick(now: float) -> None:
+        tree.root.tick_once()
+        if run.done:  # ticking an ended tree would start the patrol over
+            robot.scheduler.cancel("mission")
+
+    robot.scheduler.every("mission", config.patrol.tick_rate, tick)
     return run
 
 
-def start_sim_patrol(world: World, mission: Mission, config: LupinConfig, directory: Path,
+def start_sim_patrol(world: World, mission: Mission, config: LupinConfig, report_path: Path,
                      wall_now: Callable[[], float]) -> PatrolRun:
     """The patrol on the simulated greenhouse: the world's climate, truth for judging."""
     sim_run = start_navigate(world, config)
@@ -127,10 +137,30 @@ def start_sim_patrol(world: World, mission: Mission, config: LupinConfig, direct
     def truth_error(goal: Pose2D) -> dict[str, float]:
         return pose_error(sim_run.to_map(sim_run.sim.truth()), goal)
 
-    run = start_patrol(sim_run.robot, sim_run.nav, mission, config, sim_perception(config), directory, wall_now,
+    run = start_patrol(sim_run.robot, sim_run.nav, mission, config, sim_perception(config), report_path, wall_now,
                        sim_run.close, WorldClimate(world), truth_error)
     run.sim = sim_run
     return run
+
+
+def start_hw_patrol(mission: Mission, config: LupinConfig, report_path: Path,
+                    wall_now: Callable[[], float]) -> PatrolRun:
+    """The patrol on the robot: its devices (a missing one is a clear error before anything
+    moves), the wall clock, no climate source, nothing to judge against."""
+    backend = HwBackend(config.hw)
+    try:
+        robot = build_robot(config, backend.hal)
+        robot.start()
+        nav = attach_navigation(robot)
+    except BaseException:
+        backend.close()
+        raise
+
+    def close() -> None:
+        robot.close()
+        backend.close()
+
+    return start_patrol(robot, nav, mission, config, config.perception, report_path, wall_now, close)
 
 
 def run_to_end(run: PatrolRun, on_step: Callable[[PatrolRun], None] = lambda r: None) -> dict:

@@ -41,9 +41,6 @@ from nav.frames import compose, yaw_error
 from perception.camera_pipeline import Frame
 from perception.detections import TagRead
 
-REPORT_NAME = "report.json"
-
-
 def write_atomic(path: Path, data: bytes) -> None:
     """Write ``data`` to ``path`` through a temporary sibling and a rename."""
     tmp = path.with_name(f".{path.name}.tmp")
@@ -62,12 +59,12 @@ def pose_error(reached: Pose2D, goal: Pose2D) -> dict[str, float]:
 class PatrolReport:
     """The report being written: ``record`` a finished pot, ``finish`` with the outcome."""
 
-    def __init__(self, directory: Path, mission: Mission, config: PatrolConfig, climate: ClimateSource,
+    def __init__(self, path: Path, mission: Mission, config: PatrolConfig, climate: ClimateSource,
                  runtime_now: Callable[[], float], wall_now: Callable[[], float], distance: Callable[[], float],
                  truth_error: Callable[[Pose2D], dict[str, float]] | None = None):
-        self.directory = Path(directory)
+        self.path = Path(path)
+        self.directory = self.path.parent
         self.directory.mkdir(parents=True, exist_ok=True)
-        self.path = self.directory / REPORT_NAME
         self.mission, self.config, self.climate = mission, config, climate
         self.runtime_now, self.wall_now, self.distance = runtime_now, wall_now, distance
         self.truth_error = truth_error
@@ -153,9 +150,12 @@ class PatrolReport:
 
     # --- the document --------------------------------------------------------------------
     def document(self) -> dict:
-        pots = [self.pots.get(p.id) or {"id": p.id, "status": "skipped", "attempts": 0, "tag_expected": p.tag,
-                                        "tag_read": None, "flower": None, "x": p.x, "y": p.y, "images": []}
-                for p in self.mission.pots] if self.outcome is not None else list(self.pots.values())
+        """The report as it stands: pots in the order they were finished; once the outcome is
+        known, the pots never reached follow as ``skipped``."""
+        pots = list(self.pots.values())
+        if self.outcome is not None:
+            pots += [{"id": p.id, "status": "skipped", "attempts": 0, "tag_expected": p.tag, "tag_read": None,
+                      "flower": None, "x": p.x, "y": p.y, "images": []} for p in self.mission.pots if p.id not in self.pots]
         return {
             "mission": self.mission.name,
             "outcome": self.outcome,

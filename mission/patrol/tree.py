@@ -123,15 +123,21 @@ class PatrolTree:
         """``step``, or, when it fails, ``note(why)`` and carry on."""
         return Selector(name, memory=True, children=[step, Do(f"{name}: note failure", lambda: note(step.feedback_message))])
 
+    def _heal(self) -> str | None:
+        """The boot heal's controller walk, one non-blocking pass (a manager that does not answer
+        is not waited for: the gate fails with the heal's own message)."""
+        names = tuple(self.robot.config.hw.controllers)
+        healed = heal_controllers(self.robot.controllers, names, self.clock, budget=0.0)
+        return None if healed.healed else f"heal: {healed.message}"
+
     def _travel(self) -> tuple[object, str]:
         return preset(self.config.travel_pose), self.config.travel_pose
 
     # --- the tree ------------------------------------------------------------------------
     def _build(self) -> Behaviour:
-        c, robot = self.config, self.robot
-        names = tuple(robot.config.hw.controllers)
+        c = self.config
         startup = Sequence("start-up", memory=True, children=[
-            Do("heal controllers", lambda: heal_controllers(robot.controllers, names, self.clock, budget=0.0).healed is True),
+            Do("heal controllers", self._heal),
             WaitUntil("navigation ready", lambda: self.nav.readiness.active,
                       lambda: self.nav.readiness.overdue(self.clock.now()) and self.nav.readiness.status(self.clock.now())),
             self._arm("arm to travel", self._travel),
@@ -191,9 +197,23 @@ class PatrolTree:
 
     # --- reading it ----------------------------------------------------------------------
     def current_step(self) -> str:
-        """The deepest running behaviour's name (the progress display's 'current step')."""
-        tip = self.root.tip() if self.root is not None else None
-        return tip.name if tip is not None else ""
+        """The running leaf of the patrol proper (not the tag watcher beside it): the progress
+        display's 'current step'."""
+        node = self.root
+        while node is not None and node.children:
+            node = next((c for c in node.children if c.status is Status.RUNNING and not isinstance(c, WatchTags)), None)
+        return node.name if node is not None else ""
+
+    def pots_done(self) -> int:
+        """How many pots are finished (recorded)."""
+        return sum(v.done for v in self.visits.values())
+
+    def failure(self) -> str:
+        """Why the tree failed: the deepest failed behaviour that says why (post-order)."""
+        for node in self.root.iterate():
+            if node.status is Status.FAILURE and node.feedback_message:
+                return f"{node.name}: {node.feedback_message}"
+        return ""
 
     def render(self) -> str:
         return py_trees.display.unicode_tree(self.root, show_status=True)

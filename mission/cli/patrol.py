@@ -1,0 +1,131 @@
+"""`lupin patrol`: the product's main job (spec/cli.md), a scripted patrol to its end.
+
+With no options it patrols every pot of the built-in greenhouse in the sim, as fast as the
+machine allows, and writes ``./lupin-report/``. Every input is checked before the robot moves
+(world, mission, report path, options: exit 2 with the file, entry and field named).
+On a terminal a one-line progress display (pot k of n, the current step, sim and wall time);
+quiet when stdout is not a TTY. Exit 0 when the outcome is ``completed``, else 1.
+"""
+from __future__ import annotations
+
+import sys
+import time
+from enum import Enum
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from hw.errors import InputError
+from mission.cli.sim import run_config, world_or_default
+from mission.runtime.config import with_seed
+
+DEFAULT_REPORT = Path("lupin-report") / "report.json"
+
+
+class Backend(str, Enum):
+    sim = "sim"
+    hw = "hw"
+
+
+def check_report(report: Path) -> None:
+    """``report`` names the JSON; its directory (made here) holds everything beside it."""
+    if report.suffix.lower() != ".json":
+        raise InputError(f"--report {report}: must name a .json file (images, map and picture go beside it)")
+    if report.exists() and report.is_dir():
+        raise InputError(f"--report {report}: is a directory")
+    try:
+        report.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"--report {report}: cannot create {report.parent}: {exc.strerror}") from None
+
+
+class Pacer:
+    """``--realtime``: hold the sim back to the wall clock (the robot's own pace)."""
+
+    def __init__(self, now):
+        self.now, self.t0, self.wall0 = now, now(), time.perf_counter()
+
+    def __call__(self, run) -> None:
+        ahead = (self.now() - self.t0) - (time.perf_counter() - self.wall0)
+        if ahead > 0.005:
+            time.sleep(ahead)
+
+
+class Progress:
+    """A rich status line: pot k of n, current step, sim and wall time."""
+
+    def __init__(self, total: int):
+        from rich.console import Console
+        from rich.live import Live
+
+        self.total, self.wall0 = total, time.perf_counter()
+        self.live = Live(console=Console(), refresh_per_second=8, transient=True)
+        self.live.start()
+
+    def __call__(self, run) -> None:
+        tree = run.tree
+        k = min(tree.pots_done() + 1, self.total)
+        self.live.update(f"pot {k} of {self.total}  {tree.current_step():<28.28}  "
+                         f"{run.robot.scheduler.clock.now():6.1f} s sim  {time.perf_counter() - self.wall0:5.1f} s wall")
+
+    def stop(self) -> None:
+        self.live.stop()
+
+
+def patrol(
+    ctx: typer.Context,
+    world: Optional[Path] = typer.Option(None, "--world", help="World file (default: the built-in greenhouse)."),
+    mission: Optional[Path] = typer.Option(None, "--mission", help="Mission file (default: every pot of the world)."),
+    report: Path = typer.Option(DEFAULT_REPORT, "--report", help="Report JSON to write; images, map, config and run.png go beside it."),
+    backend: Backend = typer.Option(Backend.sim, "--backend", help="sim (MuJoCo greenhouse) or hw (the robot)."),
+    realtime: bool = typer.Option(False, "--realtime", help="Run the sim at wall-clock pace instead of as fast as possible."),
+    seed: Optional[int] = typer.Option(None, "--seed", help="Sim seed (overrides config)."),
+) -> None:
+    """Run a scripted patrol mission to its end and write the report."""
+    from mission.jobs.patrol import run_to_end, start_hw_patrol, start_sim_patrol
+    from mission.patrol.mission_file import load_mission, mission_from_world
+
+    config = run_config(ctx) if seed is None else with_seed(run_config(ctx), seed)
+    if backend is Backend.hw:
+        if mission is None or world is not None:
+            raise InputError("lupin patrol --backend hw: give --mission (and no --world: the robot patrols its real greenhouse)")
+        m = load_mission(mission)
+        check_report(report)
+        run = start_hw_patrol(m, config, report, time.perf_counter)
+    else:
+        w = world_or_default(world)
+        m = mission_from_world(w) if mission is None else load_mission(mission)
+        check_report(report)
+        run = start_sim_patrol(w, m, config, report, time.perf_counter)
+    hooks = []
+    progress = Progress(len(m.pots)) if sys.stdout.isatty() else None
+    if progress is not None:
+        hooks.append(progress)
+    if realtime:
+        hooks.append(Pacer(run.robot.scheduler.clock.now))
+    try:
+        doc = run_to_end(run, lambda r: [h(r) for h in hooks])
+    finally:
+        if progress is not None:
+            progress.stop()
+    print(summary(doc, report))
+    if doc["outcome"] != "completed":
+        raise typer.Exit(1)
+
+
+def summary(doc: dict, report: Path) -> str:
+    pots = doc["pots"]
+    done = sum(p["status"] == "inspected" for p in pots)
+    lines = [f"{doc['mission']}: {doc['outcome']}, {done}/{len(pots)} pots inspected, "
+             f"{doc['sim_time_s']:.1f} s robot time, {doc['wall_time_s']:.1f} s wall, {doc['distance_m']:.1f} m driven"]
+    for p in pots:
+        f = p.get("flower") or {}
+        lines.append(f"  {p['id']:<6} {p['status']:<9} tag {p['tag_read']!s:<5} {f.get('color', '-'):<6}"
+                     f"{' x' + str(f['blooms']) if f.get('blooms') else ''}")
+    for a in doc["anomalies"]:
+        lines.append(f"  anomaly {a['kind']} at {a['pot']}: {a['detail']}")
+    for t in doc["discovered_tags"]:
+        lines.append(f"  discovered tag {t['id']} at ({t['x']:.2f}, {t['y']:.2f})")
+    lines.append(f"report: {report}")
+    return "\n".join(lines)

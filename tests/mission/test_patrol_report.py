@@ -1,0 +1,140 @@
+"""The patrol report: anomaly rules, discovered tags, atomic writes (no sim: synthetic visits)."""
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from behaviours.visit import PotVisit
+from hw.odometry import Pose2D
+from mission.patrol.climate import NoClimate, WorldClimate
+from mission.patrol.config import PatrolConfig
+from mission.patrol.mission_file import parse_mission
+from mission.patrol.report import PatrolReport, tag_in_map, write_atomic
+from perception.camera_pipeline import Frame
+from perception.detections import Bloom, FlowerFrame, TagRead
+from sim.world import load_default_world
+
+MISSION = {"name": "unit", "home": {"x": 0.0, "y": 0.0, "yaw": 0.0},
+           "pots": [{"id": "P01", "x": 1.0, "y": 0.5, "facing": -1.5708, "tag": 1},
+                    {"id": "P02", "x": 2.0, "y": 0.5, "facing": -1.5708, "tag": 2},
+                    {"id": "P03", "x": 3.0, "y": 0.5, "facing": -1.5708}]}
+
+
+def tag(id_, distance, right=0.0):
+    return TagRead(id_, (), (right, 0.0, distance), (0.0, 0.0, 0.0), 0.0, 0.1)
+
+
+def frame(value=100):
+    return Frame(0.0, np.full((48, 64, 3), value, np.uint8), "cam")
+
+
+def bloom(cls="red", bug=False):
+    return Bloom(cls, (32.0, 24.0), 900, 0.9, bug)
+
+
+@pytest.fixture
+def report(tmp_path):
+    mission = parse_mission(MISSION, "unit.yaml")
+    clock = {"t": 10.0}
+    r = PatrolReport(tmp_path / "report.json", mission, PatrolConfig(), WorldClimate(load_default_world()),
+                     lambda: clock["t"], lambda: 0.0, lambda: 3.5, lambda goal: {"xy": 0.01, "yaw": 0.0})
+    return r, mission
+
+
+def visited(arrived=Pose2D(1.0, 0.0, 1.5708), blooms=(bloom(),), tags=(tag(1, 0.27),)):
+    v = PotVisit("P01", attempts=1, arrived=arrived)
+    v.wrist, v.flower = frame(), FlowerFrame(tuple(blooms))
+    v.front, v.tags = frame(), tuple(tags)
+    return v
+
+
+def kinds(r, pot):
+    return [a["kind"] for a in r.anomalies if a["pot"] == pot]
+
+
+def test_a_clean_pot_has_no_anomaly_and_its_climate(report):
+    r, m = report
+    r.record(m.pots[0], visited(), Pose2D(1.0, 0.0, 1.5708))
+    entry = r.pots["P01"]
+    assert kinds(r, "P01") == []
+    assert entry["status"] == "inspected" and entry["tag_read"] == 1
+    assert entry["flower"] == {"color": "red", "blooms": 1, "bug": False, "confidence": 0.9}
+    assert entry["climate"]["temperature"] == 22.5 and entry["approach_error"] == {"xy": 0.0, "yaw": 0.0}
+
+
+def test_each_anomaly_rule(report):
+    r, m = report
+    r.record(m.pots[0], visited(blooms=(bloom("pink", bug=True),), tags=(tag(2, 0.27),)), Pose2D(1.0, 0.0, 1.5708))
+    assert kinds(r, "P01") == ["bug", "tag_mismatch"]
+    v = visited(blooms=(), tags=(tag(2, 0.95),))  # the next pot's tag, too far to be this one's
+    v.id = "P02"
+    r.record(m.pots[1], v, Pose2D(2.0, 0.0, 1.5708))
+    assert kinds(r, "P02") == ["no_bloom", "no_tag"]
+    assert r.pots["P02"]["tag_read"] is None
+
+
+def test_arm_unavailable_still_reads_the_tag(report):
+    r, m = report
+    v = visited()
+    v.wrist, v.flower = None, None
+    v.failures["arm"] = "arm unavailable: shoulder_lift latched"
+    r.record(m.pots[0], v, Pose2D(1.0, 0.0, 1.5708))
+    assert kinds(r, "P01") == ["arm_unavailable"]
+    assert r.pots["P01"]["flower"] is None and r.pots["P01"]["tag_read"] == 1
+    assert r.pots["P01"]["images"] == ["P01_front.jpg"]
+
+
+def test_an_unreachable_pot(report):
+    r, m = report
+    v = PotVisit("P02", attempts=2)
+    v.failures["approach"] = "navigation failed: no path"
+    r.record(m.pots[1], v, Pose2D(2.0, 0.0, 1.5708))
+    entry = r.pots["P02"]
+    assert entry["status"] == "failed" and entry["attempts"] == 2 and "truth_error" not in entry
+    assert r.anomalies == [{"kind": "unreachable", "pot": "P02", "detail": "2 attempt(s): navigation failed: no path"}]
+
+
+def test_the_report_on_disk_is_always_whole_and_the_end_marks_skipped_pots(report, tmp_path):
+    r, m = report
+    r.record(m.pots[0], visited(), Pose2D(1.0, 0.0, 1.5708))
+    doc = json.loads((tmp_path / "report.json").read_text())
+    assert doc["outcome"] is None and [p["id"] for p in doc["pots"]] == ["P01"]
+    assert (tmp_path / "P01_wrist.jpg").stat().st_size > 0
+    final = r.finish("aborted")
+    assert [p["status"] for p in final["pots"]] == ["inspected", "skipped", "skipped"]
+    assert json.loads((tmp_path / "report.json").read_text()) == final
+    assert final["distance_m"] == 3.5 and final["sim_time_s"] == 0.0
+    assert not list(tmp_path.glob(".*.tmp"))
+
+
+def test_write_atomic_replaces_whole(tmp_path):
+    path = tmp_path / "x.json"
+    write_atomic(path, b"first")
+    write_atomic(path, b"second")
+    assert path.read_bytes() == b"second" and [p.name for p in tmp_path.iterdir()] == ["x.json"]
+
+
+def test_tag_in_map_places_a_tag_ahead_and_to_the_side():
+    # robot at (1, 2) facing +y; a tag 0.5 m in front of the camera and 0.1 m to its right
+    x, y = tag_in_map(tag(5, 0.5, right=0.1), Pose2D(1.0, 2.0, math.pi / 2), (0.1625, 0.0, 0.15))
+    assert (x, y) == pytest.approx((1.0 + 0.1, 2.0 + 0.6625))
+
+
+def test_discovered_tags_are_unlisted_near_enough_and_merged(report):
+    r, _ = report
+    robot = Pose2D(0.0, 0.0, 0.0)
+    r.saw((tag(1, 0.5), tag(9, 0.5), tag(9, 2.0, right=0.3)), robot)  # 1 is listed; the far 9 is too far
+    r.saw((tag(9, 0.6),), robot)
+    r.saw((tag(9, 0.5),), Pose2D(3.0, 0.0, 0.0))  # the same id elsewhere: another plate
+    assert [(d["id"], d["sightings"]) for d in r.discovered] == [(9, 2), (9, 1)]
+    assert r.discovered[0]["x"] == pytest.approx(0.1625 + 0.55)
+
+
+def test_no_climate_source_means_no_climate_key(tmp_path):
+    mission = parse_mission(MISSION, "unit.yaml")
+    r = PatrolReport(tmp_path / "r.json", mission, PatrolConfig(), NoClimate(), lambda: 0.0, lambda: 0.0, lambda: 0.0)
+    r.record(mission.pots[0], visited(), Pose2D(1.0, 0.0, 1.5708))
+    assert "climate" not in r.pots["P01"] and "truth_error" not in r.pots["P01"]
