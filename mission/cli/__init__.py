@@ -25,6 +25,7 @@ from mission.cli.detect import detect
 from mission.cli.heal import heal
 from mission.cli.hw import hw_app
 from mission.cli.map import map_app
+from mission.cli.mission import mission_app
 from mission.cli.patrol import patrol
 from mission.cli.sim import run_config, sim_app
 
@@ -39,6 +40,7 @@ app = typer.Typer(
 app.add_typer(sim_app, name="sim")
 app.add_typer(hw_app, name="hw")
 app.add_typer(map_app, name="map")
+app.add_typer(mission_app, name="mission")
 app.command("detect")(detect)
 app.command("heal")(heal)
 app.command("patrol")(patrol)

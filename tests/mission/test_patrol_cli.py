@@ -41,8 +41,8 @@ def test_a_bad_mission_file_is_exit_2_before_the_robot_moves(tmp_path, capsys):
     (["--backend", "tractor"], ["--backend"]),
     (["--seed", "x"], ["--seed"]),
 ])
-def test_bad_options_are_exit_2_with_one_line(tmp_path, capsys, args, words):
-    os.chdir(tmp_path)
+def test_bad_options_are_exit_2_with_one_line(tmp_path, monkeypatch, capsys, args, words):
+    monkeypatch.chdir(tmp_path)
     assert main(["patrol", *args]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and all(w in err[0] for w in words), err

@@ -1,0 +1,160 @@
+"""Mission files (contract: spec/mission.md): what an operator writes to patrol pots.
+
+Read and checked like world files (``hw.input_file``): strict keys and types, every problem one
+line naming the file, the entry and the field, all raised together as one ``InputError`` before
+the robot moves::
+
+    morning.yaml: pots[2] (id P03): field 'facing': must be a number (got 'south')
+    morning.yaml: pots[4] (id P05) has the same tag 3 as pots[2] (id P03) (field 'tag')
+
+Poses are in the ``map`` frame: in SLAM mode its origin is the dock, the robot's pose when the
+runtime started. :func:`mission_from_world` writes the mission that patrols every pot of a sim
+world in that frame; :func:`visit_order` decides the order (as listed, or greedy nearest-first).
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any, Literal, Optional
+
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+
+from hw.errors import InputError
+from hw.input_file import error_lines, kind_of, read_yaml
+from hw.odometry import Pose2D, wrap_angle
+from mission.approach import STANDOFF, approach_pose
+from nav.frames import compose, inverse
+from sim.world import TAG_IDS, World
+
+
+class _Entry(BaseModel):
+    """Strict, as a contract is: unknown keys, strings for numbers, NaN are all refused."""
+
+    model_config = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False, use_attribute_docstrings=True)
+
+
+class Home(_Entry):
+    x: float = 0.0
+    """Map-frame x, m (0: the dock)."""
+    y: float = 0.0
+    """Map-frame y, m."""
+    yaw: float = 0.0
+    """Heading, rad."""
+
+
+class MissionPot(_Entry):
+    id: str = Field(min_length=1)
+    """The pot's name: it keys the report."""
+    x: float
+    """Pot centre, map frame, m."""
+    y: float
+    """Pot centre, map frame, m."""
+    facing: float
+    """Yaw of the pot's inspection side, rad, as in the world file: the approach pose stands
+    ``standoff`` out along it, looking back at the pot."""
+    tag: Optional[int] = None
+    """Expected AprilTag id; a different id read there is a ``tag_mismatch`` anomaly."""
+
+    @field_validator("tag")
+    @classmethod
+    def _tag_in_family(cls, tag: int | None) -> int | None:
+        if tag is not None and tag not in TAG_IDS:
+            raise ValueError(f"must be an AprilTag 36h11 id, 0..{TAG_IDS[-1]} (got {tag})")
+        return tag
+
+
+class Mission(_Entry):
+    name: str = Field(min_length=1)
+    """Names the mission in its report."""
+    home: Home = Home()
+    """Where the patrol ends, and where low battery sends the robot."""
+    standoff: float = Field(STANDOFF, gt=0)
+    """Approach distance from the pot centre along its facing, m."""
+    retries: int = Field(2, ge=1)
+    """Navigation attempts per pot before it is marked failed."""
+    nav_timeout: float = Field(60.0, gt=0)
+    """Seconds per navigation attempt."""
+    return_home: bool = True
+    """Drive home at the end."""
+    pots: list[MissionPot] = Field(min_length=1)
+    """The pots, visited in this order unless ``order: nearest``."""
+    order: Literal["as_listed", "nearest"] = "as_listed"
+    """``nearest``: greedy nearest-neighbour from the robot's pose at the start."""
+
+    def approach(self, pot: MissionPot) -> tuple[float, float, float]:
+        """The pot's approach pose (x, y, yaw), map frame."""
+        p = approach_pose(pot.x, pot.y, pot.facing, self.standoff)
+        return p.x, p.y, p.yaw
+
+
+def _problems(m: Mission) -> list[str]:
+    """What involves several entries: duplicate ids and duplicate tags."""
+    out, ids, tags = [], {}, {}
+    for i, pot in enumerate(m.pots):
+        here = f"pots[{i}] (id {pot.id})"
+        if pot.id in ids:
+            out.append(f"{here}: field 'id': {pot.id!r} is already used by {ids[pot.id]}")
+        ids.setdefault(pot.id, here)
+        if pot.tag is not None:
+            if pot.tag in tags:
+                out.append(f"{here} has the same tag {pot.tag} as {tags[pot.tag]} (field 'tag')")
+            tags.setdefault(pot.tag, here)
+    return out
+
+
+def parse_mission(data: Any, source: str) -> Mission:
+    """A checked :class:`Mission` from parsed YAML; ``source`` starts every message."""
+    if not isinstance(data, dict):
+        raise InputError(f"{source}: top level: must be a mapping with keys name, pots (got {kind_of(data)})")
+    try:
+        mission = Mission.model_validate(data)
+    except ValidationError as exc:
+        raise InputError("\n".join(f"{source}: {line}" for line in error_lines(exc, data, Mission))) from None
+    problems = _problems(mission)
+    if problems:
+        raise InputError("\n".join(f"{source}: {p}" for p in problems))
+    return mission
+
+
+def load_mission(path: str | Path) -> Mission:
+    """Read and check a mission file; ``InputError`` (only) for anything wrong with it."""
+    return parse_mission(read_yaml(path, "mission file"), str(path))
+
+
+def dump_mission(m: Mission) -> str:
+    """YAML that :func:`load_mission` reads back equal; one pot per line."""
+    data = m.model_dump()
+    data["pots"] = [p.model_dump(exclude_none=True) for p in m.pots]
+    body = yaml.safe_dump(data, sort_keys=False, default_flow_style=None, width=140)
+    return "# Lupin patrol mission (spec/mission.md): metres, radians, map frame (origin: the dock).\n" + body
+
+
+def visit_order(m: Mission, start_xy: tuple[float, float]) -> list[MissionPot]:
+    """The pots in the order the patrol visits them. ``nearest`` is greedy nearest-neighbour
+    measured between *approach poses* (where the robot actually stops), from ``start_xy``;
+    ties go to the pot listed first."""
+    if m.order == "as_listed":
+        return list(m.pots)
+    left, out, here = list(m.pots), [], start_xy
+    while left:
+        nxt = min(left, key=lambda p: math.dist(here, m.approach(p)[:2]))
+        left.remove(nxt)
+        out.append(nxt)
+        here = m.approach(nxt)[:2]
+    return out
+
+
+def _r(v: float) -> float:
+    return round(v, 6) + 0.0  # no -0.0 in the file
+
+
+def mission_from_world(world: World, name: str | None = None) -> Mission:
+    """Every pot of ``world``, in the map frame of a robot starting at the world's spawn pose
+    (the dock is the origin), home at the dock, tags as printed."""
+    dock = inverse(Pose2D(world.spawn.x, world.spawn.y, world.spawn.yaw))
+    pots = []
+    for p in world.pots:
+        q = compose(dock, Pose2D(p.x, p.y, p.facing))
+        pots.append(MissionPot(id=p.id, x=_r(q.x), y=_r(q.y), facing=_r(wrap_angle(q.yaw)), tag=p.tag))
+    return Mission(name=name or f"{world.name}-patrol", pots=pots)
