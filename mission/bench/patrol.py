@@ -16,7 +16,7 @@ from pathlib import Path
 from mission.bench import Sample, benchmark
 from mission.jobs.patrol import run_to_end, start_sim_patrol
 from mission.patrol.mission_file import mission_from_world
-from mission.runtime.config import LupinConfig
+from mission.runtime.config import LupinConfig, with_overrides
 from sim.generate import generate_world
 from sim.world import World, load_default_world
 
@@ -56,8 +56,7 @@ def default(config: LupinConfig) -> Sample:
 
 @benchmark("patrol.no_strafe")
 def no_strafe(config: LupinConfig) -> Sample:
-    mppi = config.nav.mppi.model_copy(update={"motion_model": "diff"})
-    diff = config.model_copy(update={"nav": config.nav.model_copy(update={"mppi": mppi})})
+    diff = with_overrides(config, {"nav": {"mppi": {"motion_model": "diff"}}})
     doc, wall = patrol_once(load_default_world(), diff)
     return Sample([wall * 1000.0], _figures(doc, wall))
 

@@ -67,7 +67,7 @@ class PatrolRun:
         return self.tree.root.status in (Status.SUCCESS, Status.FAILURE)
 
     def outcome(self) -> str:
-        if self.tree.root.status is not Status.SUCCESS or "home" in self.tree.finish_failures:
+        if self.tree.root.status is not Status.SUCCESS or "home" in self.tree.notes:
             return "failed"
         return "completed"
 
@@ -82,7 +82,7 @@ class PatrolRun:
             save_map(occupancy.cropped(), directory / "map.yaml")
         write_picture(directory / "run.png", self.picture(occupancy))
         (directory / "tree.txt").write_text(self.tree.render() + "\n")
-        extra = {"finish_failures": self.tree.finish_failures} if self.tree.finish_failures else {}
+        extra = {"notes": self.tree.notes} if self.tree.notes else {}
         if self.tree.root.status is Status.FAILURE:
             extra["reason"] = self.tree.failure()
         return self.report.finish(outcome, **extra)

@@ -6,7 +6,7 @@
       start-up                                  Timeout(patrol.startup_timeout)
         heal controllers                          the boot heal, one non-blocking pass
         navigation ready                          the readiness cascade (scans, map, transform)
-        arm to travel                             Timeout(arm_timeout)
+        arm to travel                             Selector: the arm's travel pose, or note it (no arm)
       patrol                                    Parallel: ends when the pots do
         pots                                      Sequence, in the mission's order
           P01                                       Selector: inspect, or record it failed
@@ -25,8 +25,8 @@
         park arm                                  Selector: arm to home, or note
 
 A failed pot is recorded and the patrol goes on: every pot branch succeeds. Only the start-up
-gate can fail the tree. The tag is read first, right at arrival, while the arm is still folded
-(the front camera does not need the arm).
+gate (heal, readiness) can fail the tree. The tag is read first, right at arrival, while the arm
+is still in its travel pose (the front camera does not need the arm).
 """
 from __future__ import annotations
 
@@ -62,6 +62,15 @@ from perception.flower_detector import FlowerDetector
 from perception.tag_reader import TagReader
 
 
+def why(node: Behaviour) -> str:
+    """The reason a failed subtree gives: the deepest failed behaviour that says why, named
+    (py_trees iterates children first). A ``Retry`` only says how many times it failed."""
+    for n in node.iterate():
+        if n.status is Status.FAILURE and n.feedback_message:
+            return f"{n.name}: {n.feedback_message}"
+    return f"{node.name}: failed"
+
+
 @dataclass
 class PatrolTree:
     """The tree and what its leaves share; ``root`` ticks on the runtime's scheduler."""
@@ -75,8 +84,9 @@ class PatrolTree:
     config: PatrolConfig = field(default_factory=PatrolConfig)
     visits: dict[str, PotVisit] = field(default_factory=dict)
     order: list[MissionPot] = field(default_factory=list)
-    finish_failures: dict[str, str] = field(default_factory=dict)
-    """'home' / 'park' -> why the end of the patrol did not go as planned."""
+    notes: dict[str, str] = field(default_factory=dict)
+    """Steps outside any pot that failed without failing the patrol ('arm', 'home', 'park') ->
+    why. The patrol goes on without the arm; not getting home makes the outcome ``failed``."""
     root: Behaviour | None = None
 
     def __post_init__(self) -> None:
@@ -121,7 +131,7 @@ class PatrolTree:
 
     def _or_note(self, name: str, step: Behaviour, note: Callable[[str], None]) -> Selector:
         """``step``, or, when it fails, ``note(why)`` and carry on."""
-        return Selector(name, memory=True, children=[step, Do(f"{name}: note failure", lambda: note(step.feedback_message))])
+        return Selector(name, memory=True, children=[step, Do(f"{name}: note failure", lambda: note(why(step)))])
 
     def _heal(self) -> str | None:
         """The boot heal's controller walk, one non-blocking pass (a manager that does not answer
@@ -135,24 +145,23 @@ class PatrolTree:
 
     # --- the tree ------------------------------------------------------------------------
     def _build(self) -> Behaviour:
-        c = self.config
+        c, note = self.config, self.notes.__setitem__
         startup = Sequence("start-up", memory=True, children=[
             Do("heal controllers", self._heal),
             WaitUntil("navigation ready", lambda: self.nav.readiness.active,
                       lambda: self.nav.readiness.overdue(self.clock.now()) and self.nav.readiness.status(self.clock.now())),
-            self._arm("arm to travel", self._travel),
+            self._or_note("arm to travel", self._arm("arm to travel", self._travel), lambda reason: note("arm", reason)),
         ])
         pots = Sequence("pots", memory=True, children=[self._pot(p) for p in self.order])
         watch = WatchTags("watch tags", self.cameras["front"], self.tag_reader,
                           lambda frame, reads: self.report.saw(reads, self.nav.map_pose()))
         patrol = Parallel("patrol", ParallelPolicy.SuccessOnSelected([pots]), children=[pots, watch])
-        note = self.finish_failures.__setitem__
         finish = [self._or_note("park arm", self._arm("arm to home", lambda: (preset("home"), "home")),
-                                lambda why: note("park", why))]
+                                lambda reason: note("park", reason))]
         if self.mission.return_home:
             home = self.mission.home
             finish.insert(0, self._or_note("return home", self._drive("drive home", lambda: Pose2D(home.x, home.y, home.yaw)),
-                                           lambda why: note("home", why)))
+                                           lambda reason: note("home", reason)))
         return Sequence("Lupin patrol", memory=True, children=[
             self._timed(startup, c.startup_timeout), patrol, Sequence("finish", memory=True, children=finish)])
 
@@ -161,7 +170,7 @@ class PatrolTree:
         cams, clock = self.cameras, self.clock
 
         def fail(step: str) -> Callable[[str], None]:
-            return lambda why: visit.failures.__setitem__(step, why)
+            return lambda reason: visit.failures.__setitem__(step, reason)
 
         def arrived() -> None:
             visit.arrived = self.nav.map_pose()
@@ -175,14 +184,15 @@ class PatrolTree:
         inspect = self._arm(f"arm to inspect {pot.id}", lambda: self.inspect_goal(pot))
         look = self._timed(DetectFlower(f"detect flower {pot.id}", cams["wrist"], self.detector, visit, clock, c.settle),
                            c.frame_timeout)
+
         def note_wrist() -> None:
             if inspect.status is Status.FAILURE:
-                visit.failures["arm"] = inspect.feedback_message
+                visit.failures["arm"] = why(inspect)
             else:
-                visit.failures["wrist"] = look.feedback_message
+                visit.failures["wrist"] = why(look)
 
         def pot_failed() -> None:
-            visit.failures.setdefault("approach", approach.decorated.feedback_message)
+            visit.failures.setdefault("approach", why(approach))
             if not visit.done:
                 self.report.record(pot, visit, self.approach_goal(pot))
 
@@ -209,11 +219,8 @@ class PatrolTree:
         return sum(v.done for v in self.visits.values())
 
     def failure(self) -> str:
-        """Why the tree failed: the deepest failed behaviour that says why (post-order)."""
-        for node in self.root.iterate():
-            if node.status is Status.FAILURE and node.feedback_message:
-                return f"{node.name}: {node.feedback_message}"
-        return ""
+        """Why the tree failed (empty while it has not)."""
+        return why(self.root) if self.root.status is Status.FAILURE else ""
 
     def render(self) -> str:
         return py_trees.display.unicode_tree(self.root, show_status=True)

@@ -111,6 +111,13 @@ def with_seed(config: LupinConfig, seed: int) -> LupinConfig:
     return config.model_copy(update={"sim": config.sim.model_copy(update={"seed": seed})})
 
 
+def with_overrides(config: LupinConfig, overrides: Mapping) -> LupinConfig:
+    """``config`` with nested ``overrides`` applied and validated again, so values derived from
+    others (the smoother's limits, the critics' modes that follow the motion model) follow the
+    change instead of keeping what was derived before it (``model_copy`` would)."""
+    return LupinConfig.model_validate(_merge(config.model_dump(exclude_unset=True), overrides))
+
+
 def save_config(config: LupinConfig, directory: str | Path) -> Path:
     """Write the config actually used next to a run's output, so any run can be reproduced."""
     directory = Path(directory)

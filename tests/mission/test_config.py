@@ -69,3 +69,14 @@ def test_saved_config_round_trips(tmp_path):
     c = load_config(env={"LUPIN_SIM__SEED": "9"})
     out = save_config(c, tmp_path / "run")
     assert load_config(out, env={}) == c
+
+
+def test_with_overrides_rederives_what_follows_the_changed_value():
+    from mission.runtime.config import with_overrides
+
+    base = load_config(env={"LUPIN_SIM__SEED": "4"})
+    diff = with_overrides(base, {"nav": {"mppi": {"motion_model": "diff"}}})
+    assert diff.nav.mppi.critic.path_angle.mode == "forward"  # omni derives path_orientation
+    assert base.nav.mppi.critic.path_angle.mode == "path_orientation"
+    assert diff.sim.seed == 4  # what the user set is kept
+    assert diff == load_config(env={"LUPIN_SIM__SEED": "4", "LUPIN_NAV__MPPI__MOTION_MODEL": "diff"})
