@@ -19,9 +19,20 @@ from pathlib import Path
 from typing import Any
 
 import yaml
-from pydantic import BaseModel, ValidationError
+from pydantic import BaseModel, ConfigDict, ValidationError
 
 from hw.errors import InputError
+
+
+class StrictEntry(BaseModel):
+    """Base of every entry of a user-written file: strict, because the file is a contract.
+
+    ``extra='forbid'`` rejects unknown keys (a typo would otherwise be silently ignored);
+    ``strict`` refuses ``x: '1.0'`` and ``tag: true`` instead of coercing them; NaN and
+    infinity are never a position.
+    """
+
+    model_config = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False, use_attribute_docstrings=True)
 
 
 class _UniqueKeyLoader(yaml.SafeLoader):

@@ -21,13 +21,13 @@ Public API: :class:`World` and its parts, :func:`load_world`, :func:`parse_world
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 import yaml
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+from pydantic import AfterValidator, Field, ValidationError
 
 from hw.errors import InputError
-from hw.input_file import error_lines, kind_of, read_yaml
+from hw.input_file import StrictEntry, error_lines, kind_of, read_yaml
 from sim.config import GreenhouseGeometry
 from sim.world_checks import ROBOT_RADIUS, world_problems
 
@@ -39,25 +39,22 @@ TAG_IDS = range(0, 587)
 """AprilTag 36h11 has 587 codes, ids 0..586. The original robot whitelisted 0..21
 (reference/upstream.md) but any valid id of the family can be printed on a plate."""
 
+
+def _in_family(tag: int) -> int:
+    if tag not in TAG_IDS:
+        raise ValueError(f"must be an AprilTag 36h11 id, 0..{TAG_IDS[-1]} (got {tag})")
+    return tag
+
+
+TagId = Annotated[int, AfterValidator(_in_family)]
+"""A tag id field of a world or mission file: any id of the 36h11 family."""
+
 FLOWERS = ("red", "white", "pink", "none")
 """Flower classes of the HSV detector (reference/upstream.md), plus ``none``: a pot without
 a bloom."""
 
 
-class _Entry(BaseModel):
-    """Base of every world entry: strict, because a world file is a contract (spec/world.md).
-
-    ``extra='forbid'`` rejects unknown keys (a typo would otherwise be silently ignored);
-    ``strict`` refuses ``x: '1.0'`` and ``tag: true`` instead of coercing them; NaN and
-    infinity are never a position.
-    """
-
-    model_config = ConfigDict(
-        extra="forbid", strict=True, allow_inf_nan=False, use_attribute_docstrings=True
-    )
-
-
-class Floor(_Entry):
+class Floor(StrictEntry):
     """Interior size of the greenhouse; the floor spans [0, x] x [0, y] and 2 m walls enclose it."""
 
     x: float = Field(gt=0)
@@ -66,7 +63,7 @@ class Floor(_Entry):
     """Extent along the world y axis (north), m."""
 
 
-class Pose2(_Entry):
+class Pose2(StrictEntry):
     """A planar pose in the ``world`` frame (REP-103: x east, y north, yaw counter-clockwise)."""
 
     x: float
@@ -77,7 +74,7 @@ class Pose2(_Entry):
     """Heading, rad; 0 looks along +x."""
 
 
-class Pot(_Entry):
+class Pot(StrictEntry):
     """One pot with its plant, the thing the robot inspects."""
 
     id: str = Field(min_length=1)
@@ -89,7 +86,7 @@ class Pot(_Entry):
     facing: float
     """Yaw of the pot's inspection side, rad: the outward normal pointing to the aisle the robot
     inspects it from. The tag plate is on this side."""
-    tag: int | None = None
+    tag: TagId | None = None
     """AprilTag 36h11 id printed on the plate; ``None`` (key omitted): the pot has no tag."""
     flower: Literal["red", "white", "pink", "none"]
     """Bloom colour, one of the HSV detector's classes, or ``none`` for no bloom."""
@@ -98,15 +95,8 @@ class Pot(_Entry):
     blooms: int = Field(1, ge=1, le=3)
     """How many blooms, 1..3 (ignored for ``flower: none``)."""
 
-    @field_validator("tag")
-    @classmethod
-    def _tag_in_family(cls, tag: int | None) -> int | None:
-        if tag is not None and tag not in TAG_IDS:
-            raise ValueError(f"must be an AprilTag 36h11 id, 0..{TAG_IDS[-1]} (got {tag})")
-        return tag
 
-
-class Obstacle(_Entry):
+class Obstacle(StrictEntry):
     """An extra box standing on the floor (a crate, a bench leg, a bucket)."""
 
     x: float
@@ -123,7 +113,7 @@ class Obstacle(_Entry):
     """Height, m. The default 0.8 m stands well above the lidar plane, so the robot sees it."""
 
 
-class Climate(_Entry):
+class Climate(StrictEntry):
     """What the sim's climate source returns for one tag (the original robot's "climate data",
     reference/upstream.md). Every field is optional: a report carries only what a source knows
     (spec/report.md shows ``{"temperature": 22.5}``)."""
@@ -140,7 +130,7 @@ class Climate(_Entry):
     """Volumetric soil water content, fraction 0..1."""
 
 
-class World(_Entry):
+class World(StrictEntry):
     """A whole greenhouse world file (spec/world.md)."""
 
     name: str

@@ -18,23 +18,17 @@ from pathlib import Path
 from typing import Any, Literal, Optional
 
 import yaml
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+from pydantic import Field, ValidationError
 
 from hw.errors import InputError
-from hw.input_file import error_lines, kind_of, read_yaml
+from hw.input_file import StrictEntry, error_lines, kind_of, read_yaml
 from hw.odometry import Pose2D, wrap_angle
 from mission.approach import STANDOFF, approach_pose
 from nav.frames import compose, inverse
-from sim.world import TAG_IDS, World
+from sim.world import TagId, World
 
 
-class _Entry(BaseModel):
-    """Strict, as a contract is: unknown keys, strings for numbers, NaN are all refused."""
-
-    model_config = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False, use_attribute_docstrings=True)
-
-
-class Home(_Entry):
+class Home(StrictEntry):
     x: float = 0.0
     """Map-frame x, m (0: the dock)."""
     y: float = 0.0
@@ -43,7 +37,7 @@ class Home(_Entry):
     """Heading, rad."""
 
 
-class MissionPot(_Entry):
+class MissionPot(StrictEntry):
     id: str = Field(min_length=1)
     """The pot's name: it keys the report."""
     x: float
@@ -53,18 +47,11 @@ class MissionPot(_Entry):
     facing: float
     """Yaw of the pot's inspection side, rad, as in the world file: the approach pose stands
     ``standoff`` out along it, looking back at the pot."""
-    tag: Optional[int] = None
+    tag: Optional[TagId] = None
     """Expected AprilTag id; a different id read there is a ``tag_mismatch`` anomaly."""
 
-    @field_validator("tag")
-    @classmethod
-    def _tag_in_family(cls, tag: int | None) -> int | None:
-        if tag is not None and tag not in TAG_IDS:
-            raise ValueError(f"must be an AprilTag 36h11 id, 0..{TAG_IDS[-1]} (got {tag})")
-        return tag
 
-
-class Mission(_Entry):
+class Mission(StrictEntry):
     name: str = Field(min_length=1)
     """Names the mission in its report."""
     home: Home = Home()
