@@ -22,6 +22,8 @@ class PotVisit:
     """Navigation attempts started for this pot."""
     arrived: Pose2D | None = None
     """The robot's map pose (its belief) when the approach succeeded."""
+    view: str | None = None
+    """The arm pose the wrist frame is taken from: 'inspect', or 'aim' (IK, off the ideal pose)."""
     wrist: Frame | None = None
     flower: FlowerFrame | None = None
     """The detector's reading of ``wrist``; None when no wrist frame was taken."""

@@ -104,6 +104,7 @@ class PatrolReport:
         if visit.flower is not None:
             f = visit.flower
             entry["flower"] = {"color": f.flower, "blooms": f.count, "bug": f.bug, "confidence": round(f.confidence, 3)}
+            entry["wrist_view"] = visit.view
             if f.flower == "none":
                 anomalies.append(("no_bloom", "no bloom in the wrist frame"))
             if f.bug:

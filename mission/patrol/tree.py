@@ -107,16 +107,20 @@ class PatrolTree:
     def approach_goal(self, pot: MissionPot) -> Pose2D:
         return Pose2D(*self.mission.approach(pot))
 
-    def inspect_goal(self, pot: MissionPot) -> tuple[object, str]:
-        """``inspect`` from the ideal approach pose; from elsewhere, the IK pose that looks at
-        the spot ``inspect`` would have framed (falls back to ``inspect`` when unreachable)."""
-        ideal, here = self.approach_goal(pot), self.nav.map_pose()
+    def inspect_goal(self, pot: MissionPot, visit: PotVisit) -> tuple[object, str]:
+        """``inspect`` from the ideal approach pose; from elsewhere (by the robot's belief on
+        arrival), the IK pose that looks at the spot ``inspect`` would have framed from the
+        ideal pose (``inspect`` again when no pose inside the windows can)."""
+        ideal, here = self.approach_goal(pot), visit.arrived
         off = compose(inverse(ideal), here)
-        if math.hypot(off.x, off.y) <= self.config.aim_xy and abs(off.yaw) <= self.config.aim_yaw:
-            return preset("inspect"), "inspect"
-        spot = compose(inverse(here), compose(ideal, Pose2D(self._inspect_view[0], self._inspect_view[1], 0.0)))
-        aimed = self.aim.aim(np.array([spot.x, spot.y, self._inspect_view[2]]))
-        return (aimed.q, "aim") if aimed.ok else (preset("inspect"), "inspect")
+        visit.view = "inspect"
+        if math.hypot(off.x, off.y) > self.config.aim_xy or abs(off.yaw) > self.config.aim_yaw:
+            spot = compose(inverse(here), compose(ideal, Pose2D(self._inspect_view[0], self._inspect_view[1], 0.0)))
+            aimed = self.aim.aim(np.array([spot.x, spot.y, self._inspect_view[2]]))
+            if aimed.ok:
+                visit.view = "aim"
+                return aimed.q, "aim"
+        return preset("inspect"), "inspect"
 
     # --- building blocks -----------------------------------------------------------------
     def _timed(self, child: Behaviour, duration: float) -> Timeout:
@@ -181,7 +185,7 @@ class PatrolTree:
         approach = self._drive(f"approach {pot.id}", lambda: self.approach_goal(pot), count)
         front = self._or_note(f"front camera {pot.id}", self._timed(
             ReadTags(f"read tag {pot.id}", cams["front"], self.tag_reader, visit, clock, c.settle), c.frame_timeout), fail("front"))
-        inspect = self._arm(f"arm to inspect {pot.id}", lambda: self.inspect_goal(pot))
+        inspect = self._arm(f"arm to inspect {pot.id}", lambda: self.inspect_goal(pot, visit))
         look = self._timed(DetectFlower(f"detect flower {pot.id}", cams["wrist"], self.detector, visit, clock, c.settle),
                            c.frame_timeout)
 
