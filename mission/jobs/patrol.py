@@ -50,6 +50,14 @@ def sim_perception(config: LupinConfig) -> PerceptionConfig:
     return p.model_copy(update={"tag": p.tag.model_copy(update={"camera": front}), "wrist_camera": wrist})
 
 
+def reading_mission_tags(perception: PerceptionConfig, mission: Mission) -> PerceptionConfig:
+    """The tag reader's whitelist plus every tag the mission expects: the mission file says which
+    plates exist, and a greenhouse may print more than the original's 0..21."""
+    listed = {p.tag for p in mission.pots if p.tag is not None}
+    whitelist = tuple(sorted(set(perception.tag.whitelist) | listed))
+    return perception.model_copy(update={"tag": perception.tag.model_copy(update={"whitelist": whitelist})})
+
+
 @dataclass
 class PatrolRun:
     robot: Robot
@@ -108,6 +116,7 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
     """Schedule the tree (and the path trace) on a running robot with navigation."""
     report = Path(report_path)
     save_config(config, report.parent)
+    perception = reading_mission_tags(perception, mission)
     clock = robot.scheduler.clock
     cameras = camera_pipelines(robot.hal.cameras, clock, perception)
     report = PatrolReport(report, mission, config.patrol, climate or NoClimate(), clock.now, wall_now,

@@ -207,3 +207,13 @@ def test_a_robot_that_never_gets_ready_fails_the_patrol_naming_the_stage(tmp_pat
     assert "navigation ready" in doc["reason"] and "scans" in doc["reason"]
     assert [p["status"] for p in doc["pots"]] == ["skipped", "skipped"]
     assert doc["distance_m"] < 0.01 and 20.0 <= doc["sim_time_s"] < 25.0  # the cascade's 20 s ceiling
+
+
+@pytest.mark.slow
+def test_tags_beyond_the_default_whitelist_are_read_when_the_mission_lists_them(tmp_path):
+    world = load_default_world()
+    pots = [world.pots[0].model_copy(update={"tag": 140})]  # the reader's default whitelist is 0..21
+    world = world.model_copy(update={"pots": pots, "climate": {}})
+    mission = mission_from_world(world).model_copy(update={"return_home": False})
+    p = patrol(world, mission, tmp_path)
+    assert p.doc["pots"][0]["tag_read"] == 140 and p.doc["anomalies"] == []
