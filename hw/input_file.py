@@ -158,6 +158,10 @@ def _describe(err: dict[str, Any], model: type[BaseModel] | None) -> str:
     if kind == "extra_forbidden":
         allowed = ", ".join(model.model_fields) if model else ""
         return f"unknown key (allowed: {allowed})" if allowed else "unknown key"
+    if kind == "too_short":
+        n = ctx.get("min_length", 1)
+        count = len(got) if isinstance(got, (list, dict)) else shown(got)
+        return f"must have at least {n} {'entry' if n == 1 else 'entries'} (got {count})"
     if kind == "literal_error":
         options = ", ".join(re.findall(r"'([^']*)'", str(ctx.get("expected", ""))))
         return f"must be one of {options} (got {shown(got)})"

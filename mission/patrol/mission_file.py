@@ -22,7 +22,7 @@ from pydantic import Field, ValidationError
 
 from hw.errors import InputError
 from hw.input_file import StrictEntry, error_lines, kind_of, read_yaml
-from hw.odometry import Pose2D, wrap_angle
+from hw.odometry import Pose2D
 from mission.approach import STANDOFF, approach_pose
 from nav.frames import compose, inverse
 from sim.world import TagId, World
@@ -143,5 +143,5 @@ def mission_from_world(world: World, name: str | None = None) -> Mission:
     pots = []
     for p in world.pots:
         q = compose(dock, Pose2D(p.x, p.y, p.facing))
-        pots.append(MissionPot(id=p.id, x=_r(q.x), y=_r(q.y), facing=_r(wrap_angle(q.yaw)), tag=p.tag))
+        pots.append(MissionPot(id=p.id, x=_r(q.x), y=_r(q.y), facing=_r(q.yaw), tag=p.tag))
     return Mission(name=name or f"{world.name}-patrol", pots=pots)

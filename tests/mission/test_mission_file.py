@@ -8,9 +8,12 @@ import textwrap
 import pytest
 
 from hw.errors import InputError
+from hw.odometry import Pose2D
+from mission.approach import approach_pose
 from mission.cli import main
 from mission.patrol.mission_file import (dump_mission, load_mission, mission_from_world, parse_mission,
                                          visit_order)
+from nav.frames import compose
 from sim.world import DEFAULT_WORLD, Pose2, load_default_world
 
 SPEC_EXAMPLE = textwrap.dedent("""\
@@ -53,11 +56,24 @@ def test_dump_and_load_round_trip(tmp_path):
     assert load_mission(write(tmp_path, dump_mission(m))) == m
 
 
+def test_round_trip_keeps_untagged_pots_odd_names_and_every_setting(tmp_path):
+    m = parse_mission({"name": "yes", "home": {"x": -1.25, "y": 0.1, "yaw": 3.0}, "standoff": 0.35, "retries": 5,
+                       "nav_timeout": 12.5, "return_home": False, "order": "nearest", "pots": [
+                           {"id": "007", "x": 1e-7, "y": -2.0, "facing": 1.0},
+                           {"id": "on", "x": 1.0, "y": 2.0, "facing": -0.5, "tag": 586}]}, "m.yaml")
+    text = dump_mission(m)
+    pot_lines = [line for line in text.splitlines() if line.startswith("- {id: ")]  # one pot per line
+    assert text.startswith("#") and len(pot_lines) == 2
+    assert "'007'" in pot_lines[0] and "tag" not in pot_lines[0]  # the untagged pot has no tag key
+    back = load_mission(write(tmp_path, text))
+    assert back == m and back.pots[0].tag is None and back.pots[0].id == "007"
+
+
 @pytest.mark.parametrize("text, words", [
     ("name: [", ["not valid YAML"]),
     ("- just\n- a list\n", ["top level", "mapping", "a list"]),
     ("name: x\n", ["top level", "field 'pots'", "missing required key"]),
-    ("name: x\npots: []\n", ["field 'pots'"]),
+    ("name: x\npots: []\n", ["top level", "field 'pots'", "at least 1"]),
     ("name: x\nspeed: 3\npots:\n  - {id: A, x: 1.0, y: 1.0, facing: 0.0}\n", ["speed", "unknown key"]),
     ("name: x\npots:\n  - {id: A, x: 1.0, y: 1.0, facing: 0.0, colour: red}\n", ["pots[0] (id A)", "colour", "unknown key"]),
     ("name: x\npots:\n  - {id: A, x: 1.0, facing: 0.0}\n", ["pots[0] (id A)", "field 'y'", "missing"]),
@@ -100,8 +116,16 @@ def test_the_approach_pose_stands_off_along_facing_looking_back():
         {"id": "A", "x": 2.0, "y": 1.0, "facing": -math.pi / 2},
         {"id": "B", "x": 0.0, "y": 0.0, "facing": math.pi}]}, "m.yaml")
     assert m.approach(m.pots[0]) == pytest.approx((2.0, 0.6, math.pi / 2))
-    x, y, yaw = m.approach(m.pots[1])
-    assert (x, y) == pytest.approx((-0.4, 0.0)) and abs(math.remainder(yaw, 2 * math.pi)) < 1e-9
+    assert m.approach(m.pots[1]) == pytest.approx((-0.4, 0.0, 0.0), abs=1e-12)  # pi + pi wraps to 0
+
+
+def test_the_approach_heading_is_wrapped_to_minus_pi_exclusive_pi_inclusive():
+    m = parse_mission({"name": "n", "pots": [
+        {"id": "A", "x": 1.0, "y": 1.0, "facing": 0.0},
+        {"id": "B", "x": 0.0, "y": 0.0, "facing": math.pi / 4}]}, "m.yaml")
+    assert m.approach(m.pots[0]) == (1.5, 1.0, math.pi)  # not -pi
+    h = 0.5 / math.sqrt(2)
+    assert m.approach(m.pots[1]) == pytest.approx((h, h, -3 * math.pi / 4))
 
 
 def test_nearest_first_is_greedy_between_approach_poses():
@@ -113,6 +137,13 @@ def test_nearest_first_is_greedy_between_approach_poses():
     assert [p.id for p in visit_order(m, (0.0, 0.5))] == ["near", "mid", "twin", "far"]
     listed = m.model_copy(update={"order": "as_listed"})
     assert [p.id for p in visit_order(listed, (0.0, 0.5))] == ["far", "near", "mid", "twin"]
+
+
+def test_nearest_first_measures_to_approach_poses_not_pot_centres():
+    pots = [{"id": "A", "x": 1.0, "y": 0.0, "facing": 0.0},  # centre 1.0 away, approach (1.5, 0): 1.5
+            {"id": "B", "x": 1.2, "y": 0.0, "facing": math.pi}]  # centre 1.2 away, approach (0.7, 0): 0.7
+    m = parse_mission({"name": "n", "order": "nearest", "pots": pots}, "m.yaml")
+    assert [p.id for p in visit_order(m, (0.0, 0.0))] == ["B", "A"]
 
 
 def test_from_world_puts_pots_in_the_dock_frame():
@@ -127,15 +158,31 @@ def test_from_world_puts_pots_in_the_dock_frame():
 def test_from_world_with_a_spawn_looking_north_rotates_the_pots():
     world = load_default_world()
     world = world.model_copy(update={"spawn": Pose2(x=1.0, y=0.5, yaw=math.pi / 2)})
-    p01 = mission_from_world(world).pots[0]  # world (2.0, 1.0) facing south
-    assert (p01.x, p01.y) == pytest.approx((0.5, -1.0))  # 0.5 ahead (north), 1.0 to the right (east)
-    assert p01.facing == pytest.approx(math.pi, abs=1e-4) or p01.facing == pytest.approx(-math.pi, abs=1e-4)
+    m = mission_from_world(world)
+    p01, p05 = m.pots[0], m.pots[4]  # world (2.0, 1.0) facing south; (2.0, 2.0) facing north
+    assert (p01.x, p01.y) == (0.5, -1.0)  # 0.5 ahead (north), 1.0 to the right (east); rounded exactly
+    assert -math.pi < p01.facing <= math.pi and p01.facing == pytest.approx(math.pi, abs=1e-4)  # south is behind
+    assert (p05.x, p05.y) == (1.5, -1.0) and p05.facing == pytest.approx(0.0, abs=1e-4)  # north is ahead
+
+
+def test_from_world_approach_poses_land_where_the_world_puts_them():
+    world = load_default_world()
+    world = world.model_copy(update={"spawn": Pose2(x=-0.7, y=2.3, yaw=2.5)})
+    m = mission_from_world(world)
+    dock = Pose2D(world.spawn.x, world.spawn.y, world.spawn.yaw)
+    for pot, wp in zip(m.pots, world.pots, strict=True):
+        seen = compose(dock, Pose2D(*m.approach(pot)))  # back into the world frame
+        want = approach_pose(wp.x, wp.y, wp.facing, m.standoff)
+        assert (seen.x, seen.y) == pytest.approx((want.x, want.y), abs=1e-5), pot.id
+        assert math.remainder(seen.yaw - want.yaw, 2 * math.pi) == pytest.approx(0.0, abs=1e-5), pot.id
+        assert pot.tag == wp.tag
 
 
 def test_the_from_world_command(tmp_path, capsys):
     out = tmp_path / "sub" / "patrol.yaml"
     assert main(["mission", "from-world", str(DEFAULT_WORLD), "-o", str(out)]) == 0
     assert load_mission(out) == mission_from_world(load_default_world())
+    assert list(out.parent.iterdir()) == [out]  # no temporary file left beside it
     capsys.readouterr()
     assert main(["mission", "from-world", str(DEFAULT_WORLD)]) == 0
     assert capsys.readouterr().out.startswith("# Lupin patrol mission")
