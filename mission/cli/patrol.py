@@ -4,10 +4,12 @@ With no options it patrols every pot of the built-in greenhouse in the sim, as f
 machine allows, and writes ``./lupin-report/``. Every input is checked before the robot moves
 (world, mission, report path, options: exit 2 with the file, entry and field named).
 On a terminal a one-line progress display (pot k of n, the current step, sim and wall time);
-quiet when stdout is not a TTY. Exit 0 when the outcome is ``completed``, else 1.
+quiet when stdout is not a TTY. Ctrl-C or SIGTERM aborts: the goal is cancelled and the report
+finished ``aborted``. Exit 0 when the outcome is ``completed``, else 1.
 """
 from __future__ import annotations
 
+import signal
 import sys
 import time
 from enum import Enum
@@ -104,14 +106,20 @@ def patrol(
         hooks.append(progress)
     if realtime:
         hooks.append(Pacer(run.robot.scheduler.clock.now))
+    previous = signal.signal(signal.SIGTERM, _interrupt)  # a service stop aborts like Ctrl-C
     try:
         doc = run_to_end(run, lambda r: [h(r) for h in hooks])
     finally:
+        signal.signal(signal.SIGTERM, previous)
         if progress is not None:
             progress.stop()
     print(summary(doc, report))
     if doc["outcome"] != "completed":
         raise typer.Exit(1)
+
+
+def _interrupt(signum, frame) -> None:
+    raise KeyboardInterrupt
 
 
 def summary(doc: dict, report: Path) -> str:

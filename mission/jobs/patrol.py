@@ -82,6 +82,12 @@ class PatrolRun:
     def step(self) -> None:
         self.robot.scheduler.step()
 
+    def abort(self) -> None:
+        """Stop the tree where it is: its running leaves cancel what they started (the
+        navigation goal; the arm holds), and it is not ticked again."""
+        self.robot.scheduler.cancel("mission")
+        self.tree.root.stop(Status.INVALID)
+
     def finish(self, outcome: str) -> dict:
         """The end of a run: SLAM's map, the picture, and the report's final write."""
         occupancy = final_map(self.nav, self.robot.scheduler)
@@ -173,11 +179,16 @@ def start_hw_patrol(mission: Mission, config: LupinConfig, report_path: Path,
 
 
 def run_to_end(run: PatrolRun, on_step: Callable[[PatrolRun], None] = lambda r: None) -> dict:
-    """Tick until the tree ends, then finish; the run is closed whatever happens."""
+    """Tick until the tree ends, then finish; Ctrl-C aborts (the goal cancelled, the report
+    finished ``aborted`` with what was done). The run is closed whatever happens."""
     try:
-        while not run.done:
-            run.step()
-            on_step(run)
+        try:
+            while not run.done:
+                run.step()
+                on_step(run)
+        except KeyboardInterrupt:
+            run.abort()
+            return run.finish("aborted")
         return run.finish(run.outcome())
     finally:
         run.close()

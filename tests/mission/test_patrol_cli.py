@@ -114,3 +114,22 @@ def test_realtime_holds_the_sim_back_to_the_wall_clock(monkeypatch):
     sim["t"], wall["t"] = 0.6, 100.7  # now behind the wall: no wait
     pace(None)
     assert slept == [0.4]
+
+
+@pytest.mark.slow
+def test_sigterm_aborts_the_patrol_and_finishes_the_report(tmp_path):
+    mission = short_mission(tmp_path / "m.yaml", ("P01", "P02", "P03"))
+    report = tmp_path / "run" / "report.json"
+    lupin = Path(sys.executable).with_name("lupin")
+    proc = subprocess.Popen([str(lupin), "patrol", "--mission", str(mission), "--report", str(report)],
+                            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    deadline = time.monotonic() + 240  # harness wait, not a timing assertion
+    while time.monotonic() < deadline and not (report.exists() and json.loads(report.read_text())["pots"]):
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGTERM)
+    out, _ = proc.communicate(timeout=120)
+    assert proc.returncode == 1
+    doc = json.loads(report.read_text())
+    assert doc["outcome"] == "aborted" and doc["pots"][0]["status"] == "inspected"
+    assert "skipped" in [p["status"] for p in doc["pots"]]
+    assert out.startswith("default-patrol: aborted, ")

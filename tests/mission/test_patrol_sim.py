@@ -217,3 +217,24 @@ def test_tags_beyond_the_default_whitelist_are_read_when_the_mission_lists_them(
     mission = mission_from_world(world).model_copy(update={"return_home": False})
     p = patrol(world, mission, tmp_path)
     assert p.doc["pots"][0]["tag_read"] == 140 and p.doc["anomalies"] == []
+
+
+@pytest.mark.slow
+def test_ctrl_c_aborts_with_the_goal_cancelled_and_the_report_finished(tmp_path):
+    from mission.jobs.patrol import run_to_end
+
+    world = load_default_world()
+    base = mission_from_world(world)
+    mission = base.model_copy(update={"pots": base.pots[:3]})
+    run = start_sim_patrol(world, mission, load_config(), tmp_path / "report.json", time.perf_counter)
+
+    def interrupt_on_the_way_to_the_second_pot(r) -> None:
+        if r.tree.pots_done() == 1 and r.nav.active:
+            raise KeyboardInterrupt
+
+    doc = run_to_end(run, interrupt_on_the_way_to_the_second_pot)
+    assert doc["outcome"] == "aborted"
+    assert [(p["id"], p["status"]) for p in doc["pots"]] == [("P01", "inspected"), ("P02", "skipped"), ("P03", "skipped")]
+    assert not run.nav.active and run.nav.state.value == "canceled"
+    assert json.loads((tmp_path / "report.json").read_text()) == doc
+    assert (tmp_path / "map.yaml").exists() and (tmp_path / "run.png").exists()
