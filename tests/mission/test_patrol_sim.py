@@ -10,12 +10,13 @@ import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Callable
 
 import cv2
 import pytest
 
 from arm.presets import preset
-from mission.jobs.patrol import start_sim_patrol
+from mission.jobs.patrol import PatrolRun, run_to_end, start_sim_patrol
 from mission.patrol.mission_file import Mission, mission_from_world
 from mission.runtime.config import load_config
 from nav.map_io import load_map
@@ -29,12 +30,16 @@ class Patrolled:
     home_error: float
     arm_home: bool
     order: list[str]
+    run: PatrolRun
 
 
-def patrol(world: World, mission: Mission, directory: Path, seed: int = 0) -> Patrolled:
+def patrol(world: World, mission: Mission, directory: Path, seed: int = 0,
+           before: Callable[[PatrolRun], None] = lambda run: None) -> Patrolled:
+    """One patrol to its end; ``before(run)`` sets the scene (a fault) before the first tick."""
     config = load_config(env={"LUPIN_SIM__SEED": str(seed)})
     run = start_sim_patrol(world, mission, config, directory / "report.json", time.perf_counter)
     try:
+        before(run)
         while not run.done:
             run.step()
         doc = run.finish(run.outcome())
@@ -45,7 +50,7 @@ def patrol(world: World, mission: Mission, directory: Path, seed: int = 0) -> Pa
         hx = spawn.x + home.x * math.cos(spawn.yaw) - home.y * math.sin(spawn.yaw)
         hy = spawn.y + home.x * math.sin(spawn.yaw) + home.y * math.cos(spawn.yaw)
         return Patrolled(doc, directory, math.hypot(truth.x - hx, truth.y - hy),
-                         run.robot.arm.at(preset("home")), [p.id for p in run.tree.order])
+                         run.robot.arm.at(preset("home")), [p.id for p in run.tree.order], run)
     finally:
         run.close()
 
@@ -176,16 +181,14 @@ def test_controllers_broken_at_boot_are_healed_by_the_start_up_gate(tmp_path):
     world = load_default_world()
     base = mission_from_world(world)
     mission = base.model_copy(update={"pots": base.pots[:1], "return_home": False})
-    run = start_sim_patrol(world, mission, load_config(), tmp_path / "report.json", time.perf_counter)
-    try:
+
+    def break_them(run: PatrolRun) -> None:
         run.sim.sim.faults.controller_race(["mirte_base_controller", "mirte_master_arm_controller"], "unconfigured")
         assert not run.robot.controllers.is_active("mirte_base_controller")
-        while not run.done:
-            run.step()
-        doc = run.finish(run.outcome())
-    finally:
-        run.close()
-    assert run.robot.controllers.is_active("mirte_base_controller")
+
+    p = patrol(world, mission, tmp_path, before=break_them)
+    assert p.run.robot.controllers.is_active("mirte_base_controller")
+    doc = p.doc
     assert doc["outcome"] == "completed" and doc["pots"][0]["status"] == "inspected"
     assert doc["pots"][0]["flower"]["color"] == "red"  # the arm took `inspect`: its controller was healed
 
@@ -195,14 +198,7 @@ def test_a_robot_that_never_gets_ready_fails_the_patrol_naming_the_stage(tmp_pat
     world = load_default_world()
     base = mission_from_world(world)
     mission = base.model_copy(update={"pots": base.pots[:2]})
-    run = start_sim_patrol(world, mission, load_config(), tmp_path / "report.json", time.perf_counter)
-    try:
-        run.sim.sim.faults.lidar_dropout(120.0)
-        while not run.done:
-            run.step()
-        doc = run.finish(run.outcome())
-    finally:
-        run.close()
+    doc = patrol(world, mission, tmp_path, before=lambda run: run.sim.sim.faults.lidar_dropout(120.0)).doc
     assert doc["outcome"] == "failed"
     assert "navigation ready" in doc["reason"] and "scans" in doc["reason"]
     assert [p["status"] for p in doc["pots"]] == ["skipped", "skipped"]
@@ -221,8 +217,6 @@ def test_tags_beyond_the_default_whitelist_are_read_when_the_mission_lists_them(
 
 @pytest.mark.slow
 def test_ctrl_c_aborts_with_the_goal_cancelled_and_the_report_finished(tmp_path):
-    from mission.jobs.patrol import run_to_end
-
     world = load_default_world()
     base = mission_from_world(world)
     mission = base.model_copy(update={"pots": base.pots[:3]})
