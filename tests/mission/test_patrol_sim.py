@@ -130,7 +130,7 @@ def test_nearest_first_visits_in_greedy_order_and_still_gets_every_pot_right(tmp
     assert p.order != [pot.id for pot in world.pots]
     assert [x["id"] for x in p.doc["pots"]] == p.order  # the report lists pots as visited
     assert p.doc["outcome"] == "completed" and all(correct(world, p.doc).values())
-    assert p.doc["distance_m"] < 22.0  # the listed order drives ~22 m (row C is doubled back)
+    assert p.doc["distance_m"] < 15.0  # greedy drives ~12 m; the listed order ~22 m (the middle aisle twice)
 
 
 @pytest.fixture(scope="module")
