@@ -12,6 +12,7 @@ import numpy as np
 from hw.config import HwConfig
 from hw.interfaces import Hal
 from hw.odometry import Pose2D
+from hw.wall_clock import WallPace
 from sim.cameras import RendererPool, SimCamera
 from sim.clock import SimClock
 from sim.config import SimConfig
@@ -47,7 +48,7 @@ class SimRobot:
         self.leds = SimLedStrip(engine, hw_config.leds.num_leds, sc.led_wiring)
         self.renderers = RendererPool(engine)
         self.faults = SimFaults(engine, self.lidar, self.servos, self.battery, self.button, controllers)
-        self.clock = SimClock(engine.advance_to, start=engine.time)
+        self.clock = SimClock(self._paced(engine) if sc.realtime else engine.advance_to, start=engine.time)
         cams = {k: SimCamera(self.renderers, v, sc.camera.width, sc.camera.height) for k, v in CAMERAS.items()}
         self.hal = Hal(
             clock=self.clock,
@@ -61,6 +62,16 @@ class SimRobot:
             leds=self.leds,
             cameras=cams,
         )
+
+    @staticmethod
+    def _paced(engine: Engine):
+        pace = WallPace(engine.time)
+
+        def advance(t: float) -> None:
+            pace.wait(t)
+            engine.advance_to(t)
+
+        return advance
 
     def truth(self) -> Pose2D:
         """Ground-truth base pose in the world frame (what odometry is judged against)."""

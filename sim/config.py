@@ -97,6 +97,10 @@ class GreenhouseGeometry(_Strict):
 class SimConfig(_Strict):
     """The MuJoCo greenhouse backend."""
 
+    realtime: bool = False
+    """Hold the physics to the wall clock (``lupin patrol --realtime``): the robot's own pace,
+    for watching. Off, the sim runs as fast as the machine allows; the run is the same either
+    way (same seed, same trajectory)."""
     seed: int = 0
     """Seed for every random draw in the sim (noise, slip jitter). Same seed, same run."""
     physics: PhysicsConfig = PhysicsConfig()

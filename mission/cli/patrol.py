@@ -20,7 +20,7 @@ import typer
 
 from hw.errors import InputError
 from mission.cli.sim import run_config, world_or_default
-from mission.runtime.config import with_seed
+from mission.runtime.config import with_overrides, with_seed
 
 DEFAULT_REPORT = Path("lupin-report") / "report.json"
 
@@ -40,18 +40,6 @@ def check_report(report: Path) -> None:
         report.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise InputError(f"--report {report}: cannot create {report.parent}: {exc.strerror}") from None
-
-
-class Pacer:
-    """``--realtime``: hold the sim back to the wall clock (the robot's own pace)."""
-
-    def __init__(self, now):
-        self.now, self.t0, self.wall0 = now, now(), time.perf_counter()
-
-    def __call__(self, run) -> None:
-        ahead = (self.now() - self.t0) - (time.perf_counter() - self.wall0)
-        if ahead > 0.005:
-            time.sleep(ahead)
 
 
 class Progress:
@@ -89,6 +77,8 @@ def patrol(
     from mission.patrol.mission_file import load_mission, mission_from_world
 
     config = run_config(ctx) if seed is None else with_seed(run_config(ctx), seed)
+    if realtime:
+        config = with_overrides(config, {"sim": {"realtime": True}})
     if backend is Backend.hw:
         if mission is None or world is not None:
             raise InputError("lupin patrol --backend hw: give --mission (and no --world: the robot patrols its real greenhouse)")
@@ -100,15 +90,10 @@ def patrol(
         m = mission_from_world(w) if mission is None else load_mission(mission)
         check_report(report)
         run = start_sim_patrol(w, m, config, report, time.perf_counter)
-    hooks = []
     progress = Progress(len(m.pots)) if sys.stdout.isatty() else None
-    if progress is not None:
-        hooks.append(progress)
-    if realtime:
-        hooks.append(Pacer(run.robot.scheduler.clock.now))
     previous = signal.signal(signal.SIGTERM, _interrupt)  # a service stop aborts like Ctrl-C
     try:
-        doc = run_to_end(run, lambda r: [h(r) for h in hooks])
+        doc = run_to_end(run, progress or (lambda r: None))
     finally:
         signal.signal(signal.SIGTERM, previous)
         if progress is not None:

@@ -2,7 +2,6 @@
 and a report that survives the process being killed mid-patrol."""
 from __future__ import annotations
 
-import importlib
 import json
 import os
 import signal
@@ -97,23 +96,6 @@ def test_a_report_read_after_a_kill_holds_every_pot_finished_before_it(tmp_path)
         assert p["status"] == "inspected"
         for name in p["images"]:
             assert (report.parent / name).stat().st_size > 1000
-
-
-def test_realtime_holds_the_sim_back_to_the_wall_clock(monkeypatch):
-    patrol_cli = importlib.import_module("mission.cli.patrol")  # the package exports the command under that name
-
-    wall = {"t": 100.0}
-    slept = []
-    monkeypatch.setattr(patrol_cli.time, "perf_counter", lambda: wall["t"])
-    monkeypatch.setattr(patrol_cli.time, "sleep", lambda s: slept.append(round(s, 6)))
-    sim = {"t": 0.0}
-    pace = patrol_cli.Pacer(lambda: sim["t"])
-    sim["t"] = 0.5  # the sim ran 0.5 s ahead in 0.1 s of wall time
-    wall["t"] = 100.1
-    pace(None)
-    sim["t"], wall["t"] = 0.6, 100.7  # now behind the wall: no wait
-    pace(None)
-    assert slept == [0.4]
 
 
 @pytest.mark.slow
