@@ -16,7 +16,8 @@ from py_trees.common import Status
 from arm.controller import ArmController, ArmUnavailable
 from arm.presets import ARM_JOINTS
 
-Goal = Callable[[], "tuple[np.ndarray | Mapping[str, float], str]"]
+Goal = Callable[[], tuple[np.ndarray | Mapping[str, float], str]]
+"""A joint goal (vector in joint order, or joint name -> angle) and its label."""
 
 
 class MoveArm(py_trees.behaviour.Behaviour):

@@ -35,8 +35,6 @@ field, a corrupt image) is one ``InputError`` naming the file and the field.
 from __future__ import annotations
 
 import math
-import os
-import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -44,6 +42,7 @@ import cv2
 import numpy as np
 import yaml
 
+from hw.atomic_file import write_atomic
 from hw.errors import InputError
 from nav.occupancy import FREE, OCCUPIED, UNKNOWN, OccupancyMap
 
@@ -69,11 +68,11 @@ def save_map(m: OccupancyMap, yaml_path: str | Path, occupied_thresh: float = OC
     pixels[known & (p >= occupied_thresh)] = PIXEL_OCCUPIED
     pixels[known & (p <= free_thresh)] = PIXEL_FREE
     header = f"P5\n# lupin map, {m.resolution} m/cell\n{m.width} {m.height}\n255\n".encode()
-    _atomic_write(pgm, header + np.ascontiguousarray(pixels[::-1]).tobytes())
+    write_atomic(pgm, header + np.ascontiguousarray(pixels[::-1]).tobytes())
     meta = {"image": pgm.name, "mode": "trinary", "resolution": float(m.resolution),
             "origin": [float(m.origin_x), float(m.origin_y), float(m.origin_yaw)], "negate": 0,
             "occupied_thresh": float(occupied_thresh), "free_thresh": float(free_thresh)}
-    _atomic_write(yaml_path, yaml.safe_dump(meta, sort_keys=False, default_flow_style=None).encode())
+    write_atomic(yaml_path, yaml.safe_dump(meta, sort_keys=False, default_flow_style=None).encode())
     return yaml_path
 
 
@@ -240,15 +239,3 @@ def _field(meta: dict, path: Path, name: str, kind: type, default: Any = _MISSIN
 
 def _is_number(v: Any) -> bool:
     return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
-
-
-def _atomic_write(path: Path, data: bytes) -> None:
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-        os.chmod(tmp, 0o644)  # mkstemp makes 0600; a map is for other tools to read
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise

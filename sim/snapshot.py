@@ -1,12 +1,8 @@
 """Still pictures of the simulated greenhouse, so people can see the world they configured."""
 from __future__ import annotations
 
-from pathlib import Path
-
-import cv2
 import numpy as np
 
-from hw.errors import InputError
 from hw.config import HwConfig
 from sim.backend import SimRobot
 from sim.config import SimConfig
@@ -39,9 +35,3 @@ def render_snapshot(world: World, sim_config: SimConfig, hw_config: HwConfig, ca
         return sim.hal.cameras[camera].capture()
     finally:
         sim.close()
-
-
-def write_png(path: Path, image: np.ndarray) -> None:
-    if not cv2.imwrite(str(path), image):
-        raise InputError(f"{path}: could not write the PNG")
-

@@ -36,8 +36,7 @@ def show(
     output: Optional[Path] = typer.Option(None, "-o", "--output", help="Render the map to this PNG."),
 ) -> None:
     """Print what a saved map holds; with -o, render it (free white, occupied black, unknown grey)."""
-    import cv2
-
+    from hw.atomic_file import write_png
     from nav.map_io import load_map
     from nav.map_render import render_map
 
@@ -49,12 +48,7 @@ def show(
     m = load_map(map_file)
     print(f"{map_file}: {summary(m)}")
     if output is not None:
-        try:
-            written = cv2.imwrite(str(output), render_map(m))
-        except cv2.error:
-            written = False
-        if not written:
-            raise InputError(f"-o {output}: cannot write the PNG")
+        write_png(output, render_map(m))
         print(f"wrote {output}")
 
 

@@ -7,7 +7,7 @@ from typing import Optional
 import typer
 
 from hw.errors import InputError
-from mission.patrol.report import write_atomic
+from hw.atomic_file import write_atomic
 
 mission_app = typer.Typer(help="Patrol mission files (spec/mission.md).", no_args_is_help=True)
 

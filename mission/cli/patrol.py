@@ -83,13 +83,12 @@ def patrol(
         if mission is None or world is not None:
             raise InputError("lupin patrol --backend hw: give --mission (and no --world: the robot patrols its real greenhouse)")
         m = load_mission(mission)
-        check_report(report)
-        run = start_hw_patrol(m, config, report, time.perf_counter)
     else:
         w = world_or_default(world)
         m = mission_from_world(w) if mission is None else load_mission(mission)
-        check_report(report)
-        run = start_sim_patrol(w, m, config, report, time.perf_counter)
+    check_report(report)  # every input checked; only now does anything start
+    run = (start_hw_patrol(m, config, report, time.perf_counter) if backend is Backend.hw
+           else start_sim_patrol(w, m, config, report, time.perf_counter))
     progress = Progress(len(m.pots)) if sys.stdout.isatty() else None
     previous = signal.signal(signal.SIGTERM, _interrupt)  # a service stop aborts like Ctrl-C
     try:

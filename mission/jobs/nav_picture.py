@@ -9,13 +9,11 @@ belief green, truth magenta; the goal as a circle of the xy tolerance with its h
 """
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Sequence
 
 import cv2
 import numpy as np
 
-from hw.errors import InputError
 from hw.odometry import Pose2D
 from nav.costmap.grid import INSCRIBED, LETHAL, UNKNOWN, CostGrid
 
@@ -75,8 +73,3 @@ def draw_run(grid: CostGrid, plans: Sequence[np.ndarray], odom: Sequence[Pose2D]
     for k, (name, colour) in enumerate(legend):
         cv2.putText(img, name, (8, 18 + 18 * k), cv2.FONT_HERSHEY_SIMPLEX, 0.5, colour, 1, cv2.LINE_AA)
     return img
-
-
-def write_picture(path: Path, image: np.ndarray) -> None:
-    if not cv2.imwrite(str(path), image):
-        raise InputError(f"{path}: could not write the picture")

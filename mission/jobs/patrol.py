@@ -16,9 +16,9 @@ from typing import Callable
 import numpy as np
 from py_trees.common import Status
 
+from hw.atomic_file import write_atomic, write_png
 from hw.backend import HwBackend
 from hw.odometry import Pose2D
-from mission.jobs.nav_picture import write_picture
 from mission.jobs.navigate import NavigateRun, start_navigate
 from mission.patrol.climate import ClimateSource, NoClimate, WorldClimate
 from mission.patrol.mission_file import Mission
@@ -94,8 +94,8 @@ class PatrolRun:
         directory = self.report.directory
         if occupancy is not None:
             save_map(occupancy.cropped(), directory / "map.yaml")
-        write_picture(directory / "run.png", self.picture(occupancy))
-        (directory / "tree.txt").write_text(self.tree.render() + "\n")
+        write_png(directory / "run.png", self.picture(occupancy))
+        write_atomic(directory / "tree.txt", (self.tree.render() + "\n").encode())
         extra = {"notes": self.tree.notes} if self.tree.notes else {}
         if self.tree.root.status is Status.FAILURE:
             extra["reason"] = self.tree.failure()
@@ -120,12 +120,11 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
                  climate: ClimateSource | None = None,
                  truth_error: Callable[[Pose2D], dict[str, float]] | None = None) -> PatrolRun:
     """Schedule the tree (and the path trace) on a running robot with navigation."""
-    report = Path(report_path)
-    save_config(config, report.parent)
+    save_config(config, Path(report_path).parent)
     perception = reading_mission_tags(perception, mission)
     clock = robot.scheduler.clock
     cameras = camera_pipelines(robot.hal.cameras, clock, perception)
-    report = PatrolReport(report, mission, config.patrol, climate or NoClimate(), clock.now, wall_now,
+    report = PatrolReport(Path(report_path), mission, config.patrol, climate or NoClimate(), clock.now, wall_now,
                           lambda: robot.base.odometry.distance, truth_error)
     tree = PatrolTree(mission, robot, nav, cameras, report, TagReader(perception.tag), config.patrol)
     run = PatrolRun(robot, nav, tree, report, close)
@@ -135,6 +134,7 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
         run.path.append((pose.x, pose.y))
 
     robot.scheduler.every("patrol.trace", TRACE_RATE, trace)
+
     def tick(now: float) -> None:
         tree.root.tick_once()
         if run.done:  # ticking an ended tree would start the patrol over

@@ -28,11 +28,11 @@ from __future__ import annotations
 
 import json
 import math
-import os
 from pathlib import Path
 from typing import Callable
 
 from behaviours.visit import PotVisit
+from hw.atomic_file import write_atomic
 from hw.odometry import Pose2D
 from mission.patrol.climate import ClimateSource
 from mission.patrol.config import PatrolConfig
@@ -40,16 +40,6 @@ from mission.patrol.mission_file import Mission, MissionPot
 from nav.frames import compose, yaw_error
 from perception.camera_pipeline import Frame
 from perception.detections import TagRead
-
-def write_atomic(path: Path, data: bytes) -> None:
-    """Write ``data`` to ``path`` through a temporary sibling and a rename."""
-    tmp = path.with_name(f".{path.name}.tmp")
-    with open(tmp, "wb") as f:
-        f.write(data)
-        f.flush()
-        os.fsync(f.fileno())
-    os.replace(tmp, path)
-
 
 def pose_error(reached: Pose2D, goal: Pose2D) -> dict[str, float]:
     return {"xy": round(math.hypot(reached.x - goal.x, reached.y - goal.y), 4),
@@ -92,9 +82,7 @@ class PatrolReport:
         for step in ("wrist", "front"):
             if step in visit.failures:
                 anomalies.append(("no_image", f"{step} camera: {visit.failures[step]}"))
-        entry: dict = {"id": pot.id, "status": "inspected" if inspected else "failed",
-                       "attempts": visit.attempts, "tag_expected": pot.tag, "tag_read": None,
-                       "flower": None, "x": pot.x, "y": pot.y, "images": []}
+        entry = _entry(pot, "inspected" if inspected else "failed", visit.attempts)
         if visit.failures:
             entry["failures"] = dict(visit.failures)
         if inspected:
@@ -155,8 +143,7 @@ class PatrolReport:
         known, the pots never reached follow as ``skipped``."""
         pots = list(self.pots.values())
         if self.outcome is not None:
-            pots += [{"id": p.id, "status": "skipped", "attempts": 0, "tag_expected": p.tag, "tag_read": None,
-                      "flower": None, "x": p.x, "y": p.y, "images": []} for p in self.mission.pots if p.id not in self.pots]
+            pots += [_entry(p, "skipped") for p in self.mission.pots if p.id not in self.pots]
         return {
             "mission": self.mission.name,
             "outcome": self.outcome,
@@ -170,16 +157,22 @@ class PatrolReport:
             "estop_events": self.estop_events,
         }
 
-    def write(self) -> None:
-        write_atomic(self.path, json.dumps(self.document(), indent=2).encode())
+    def write(self, **extra) -> dict:
+        """Write the report as it stands (plus ``extra`` top-level keys); returns it."""
+        doc = {**self.document(), **extra}
+        write_atomic(self.path, json.dumps(doc, indent=2).encode())
+        return doc
 
     def finish(self, outcome: str, **extra) -> dict:
         """The final write: the outcome, and pots never reached marked ``skipped``."""
         self.outcome = outcome
-        doc = self.document()
-        doc.update(extra)
-        write_atomic(self.path, json.dumps(doc, indent=2).encode())
-        return doc
+        return self.write(**extra)
+
+
+def _entry(pot: MissionPot, status: str, attempts: int = 0) -> dict:
+    """A pot's entry before anything was found (spec/report.md's required keys, plus where)."""
+    return {"id": pot.id, "status": status, "attempts": attempts, "tag_expected": pot.tag, "tag_read": None,
+            "flower": None, "x": pot.x, "y": pot.y, "images": []}
 
 
 def tag_in_map(read: TagRead, robot: Pose2D, mount: tuple[float, float, float]) -> tuple[float, float]:

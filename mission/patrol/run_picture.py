@@ -26,7 +26,6 @@ from typing import Sequence
 import cv2
 import numpy as np
 
-from mission.jobs.nav_picture import write_picture as write_png  # noqa: F401  (InputError on failure; not atomic)
 from nav.map_render import default_scale, render_map, to_pixel
 from nav.occupancy import FREE, UNKNOWN, OccupancyMap
 

@@ -49,6 +49,7 @@ from behaviours.perceive import DetectFlower, ReadTags, WatchTags
 from behaviours.steps import Do, WaitUntil
 from behaviours.timeout import Timeout
 from behaviours.visit import PotVisit
+from hw.interfaces import Clock
 from hw.odometry import Pose2D
 from mission.patrol.config import PatrolConfig
 from mission.patrol.mission_file import Mission, MissionPot, visit_order
@@ -100,7 +101,7 @@ class PatrolTree:
         self.root = self._build()
 
     @property
-    def clock(self):
+    def clock(self) -> Clock:
         return self.robot.scheduler.clock
 
     # --- goals ---------------------------------------------------------------------------

@@ -12,7 +12,7 @@ from hw.odometry import Pose2D
 from mission.patrol.climate import NoClimate, WorldClimate
 from mission.patrol.config import PatrolConfig
 from mission.patrol.mission_file import parse_mission
-from mission.patrol.report import PatrolReport, tag_in_map, write_atomic
+from mission.patrol.report import PatrolReport, tag_in_map
 from perception.camera_pipeline import Frame
 from perception.detections import Bloom, FlowerFrame, TagRead
 from sim.world import load_default_world
@@ -108,13 +108,6 @@ def test_the_report_on_disk_is_always_whole_and_the_end_marks_skipped_pots(repor
     assert json.loads((tmp_path / "report.json").read_text()) == final
     assert final["distance_m"] == 3.5 and final["sim_time_s"] == 0.0
     assert not list(tmp_path.glob(".*.tmp"))
-
-
-def test_write_atomic_replaces_whole(tmp_path):
-    path = tmp_path / "x.json"
-    write_atomic(path, b"first")
-    write_atomic(path, b"second")
-    assert path.read_bytes() == b"second" and [p.name for p in tmp_path.iterdir()] == ["x.json"]
 
 
 def test_tag_in_map_places_a_tag_ahead_and_to_the_side():

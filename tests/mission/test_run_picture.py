@@ -1,13 +1,10 @@
 """The patrol's run.png: pots coloured by result where the map says they are, the path, thumbnails."""
 from __future__ import annotations
 
-import cv2
 import numpy as np
 import pytest
 
-from hw.errors import InputError
-from mission.patrol.run_picture import (GREEN, GREY, ORANGE, PATH, RED, PotMark, canvas, draw_run,
-                                        write_png)
+from mission.patrol.run_picture import GREEN, GREY, ORANGE, PATH, RED, PotMark, canvas, draw_run
 from nav.map_render import default_scale, render_map, to_pixel
 from nav.occupancy import OccupancyMap
 
@@ -166,11 +163,3 @@ def test_absurd_coordinates_do_not_crash_nor_make_a_huge_picture(occupancy):
     assert max(img.shape[:2]) < 2000
     c, s = canvas(occupancy, path, pots, (float("inf"), 0.0))
     assert at(img, c, s, 1.0, 2.0) == GREEN
-
-
-def test_write_png_round_trips_and_names_the_file_it_could_not_write(tmp_path):
-    img = draw_run(room(), np.empty((0, 2)), [pot()])
-    write_png(tmp_path / "run.png", img)
-    assert np.array_equal(cv2.imread(str(tmp_path / "run.png")), img)
-    with pytest.raises(InputError, match="missing"):
-        write_png(tmp_path / "missing" / "run.png", img)
