@@ -28,6 +28,13 @@ class Do(py_trees.behaviour.Behaviour):
         return Status.FAILURE if result is False else Status.SUCCESS
 
 
+class Check(Do):
+    """A condition: SUCCESS when ``fn()`` is true, else FAILURE (a guard's first child)."""
+
+    def __init__(self, name: str, fn: Callable[[], bool]):
+        super().__init__(name, lambda: bool(fn()))
+
+
 class WaitUntil(py_trees.behaviour.Behaviour):
     """RUNNING until ``done()``; FAILURE as soon as ``failed()`` returns a reason."""
 

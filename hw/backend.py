@@ -36,7 +36,6 @@ from hw.drivers.ina226 import Ina226
 from hw.drivers.led_strip import SpiLedStrip
 from hw.drivers.mpu9250 import Mpu9250
 from hw.drivers.pca9685 import Pca9685
-from hw.drivers.power_policy import PowerPolicy
 from hw.drivers.quadrature import QuadratureEncoders
 from hw.drivers.rplidar import RplidarC1
 from hw.errors import InputError
@@ -70,8 +69,6 @@ class HwBackend:
         self.power = Ina226(self.i2c, dev.power.address, dev.power.shunt_ohm, dev.power.max_expected_current,
                             dev.power.averaging, now)
         self.power.start()
-        self.power_policy = PowerPolicy(dev.power)
-        """The seed's power policy for whoever samples ``power`` (percentage, low, turn-off)."""
         self.imu = Mpu9250(self.i2c, dev.imu.address, dev.imu.accel_range_g, dev.imu.gyro_range_dps,
                            dev.imu.accepted_who_am_i, dev.imu.mag_address, now)
         self.imu.start()

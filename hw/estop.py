@@ -44,6 +44,10 @@ class EStopBridge:
         self.events: list[tuple[float, bool]] = []
         """(t, engaged) at every published change, starting from an implicit 'released'."""
         self._subscribers: list[EStopCallback] = []
+        self.engagements = 0
+        """Engagements seen by any live read: a press shorter than the mission's tick that the
+        base controller saw still latches the mission (``mission.patrol.holds``)."""
+        self._live = False
         self._read_failing = False
         self._log_polarity()
 
@@ -82,7 +86,11 @@ class EStopBridge:
         """Live state: the button (read now) OR the soft stop."""
         # Read the button even when soft-stopped, so a failing pin is still noticed and logged.
         pressed = self.button_pressed()
-        return pressed or self.soft
+        engaged = pressed or self.soft
+        if engaged and not self._live:
+            self.engagements += 1
+        self._live = engaged
+        return engaged
 
     def subscribe(self, callback: EStopCallback) -> None:
         """``callback(now, engaged)`` on every publish (5 Hz), changed or not."""

@@ -145,13 +145,13 @@ def _format_error(err: dict[str, Any], data: dict[str, Any], root: type[BaseMode
             entry, rest, model = str(loc[0]), loc[1:], entry_model
     if rest == ["[key]"]:
         return f"{entry}: key {loc[1]!r}: must be an integer id"
-    what = _describe(err, model if rest else root)
+    what = describe(err, model if rest else root)
     if not rest:
         return f"{entry}: {what}"
     return f"{entry}: field '{'.'.join(str(p) for p in rest)}': {what}"
 
 
-def _describe(err: dict[str, Any], model: type[BaseModel] | None) -> str:
+def describe(err: dict[str, Any], model: type[BaseModel] | None) -> str:
     kind, ctx, got = err["type"], err.get("ctx") or {}, err.get("input")
     if kind == "missing":
         return "missing required key"

@@ -98,6 +98,10 @@ class NavigatorConfig(Strict):
     (seed: bond_timeout raised from 4 s to 20 s, because a cold bring-up over WiFi took longer
     than 4 s and the default aborted a stack that was fine). It keeps waiting after reporting:
     navigation activates as soon as the stage arrives, the cascade never wedges."""
+    scan_timeout: float = Field(0.5, gt=0)
+    """A goal holds still (zero twist, the clock of its progress check and deadline stopped)
+    while the newest lidar scan is older than this, s: five revolutions of the C1 at 10 Hz.
+    Driving on a costmap that no longer sees is how a dropped USB link ends in a pot."""
     lidar_mount: tuple[float, float, float] = (0.115, 0.0, 0.0)
     """Lidar pose in base_link (x, y, yaw): the MIRTE model's lidar post (sim model README)."""
 

@@ -137,6 +137,8 @@ class Navigator:
         self._backoff_until = 0.0
         self._backoff = ZERO_TWIST
         self._checkpoint: tuple[Pose2D, float] | None = None
+        self.blind = False
+        """True while a goal holds for want of a fresh scan (``scan_timeout``)."""
 
     # -- the goal API --------------------------------------------------------------------------
 
@@ -190,10 +192,15 @@ class Navigator:
         if self.io.estop():
             self._finish(State.CANCELED, "e-stop engaged", now)
             return
+        dt, self._last_control = now - self._last_control, now
+        if self._blind(now):
+            self._deadline += dt  # a pause, not time spent on the goal
+            self._checkpoint = None
+            self.io.publish(ZERO_TWIST, now)
+            return
         if now >= self._deadline:
             self._finish(State.FAILED, f"timeout after {now - self._start:.1f} s", now)
             return
-        dt, self._last_control = now - self._last_control, now
         pose = self.map_pose()
         if self.goal_checker.reached(pose, self.goal, self.io.odom_twist()):
             self._finish(State.SUCCEEDED, "", now)
@@ -212,6 +219,20 @@ class Navigator:
         self._follow(pose, now, dt)
 
     # -- the pieces ----------------------------------------------------------------------------
+
+    def _blind(self, now: float) -> bool:
+        """No fresh lidar scan: hold still until scans return (logged once per gap)."""
+        scan = self.io.scan()
+        blind = scan is None or now - scan.stamp > self.config.navigator.scan_timeout
+        if blind != self.blind:
+            if blind:
+                log.warning("no lidar scan for over %.1f s: holding the goal still until scans return",
+                            self.config.navigator.scan_timeout)
+            else:
+                log.info("lidar scans back: following again")
+            self.smoother.reset()
+            self.blind = blind
+        return blind
 
     def _progressing(self, pose: Pose2D, now: float) -> bool:
         """Nav2's SimpleProgressChecker: moving ``progress_radius`` from the last checkpoint

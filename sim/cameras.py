@@ -9,6 +9,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from hw.interfaces import DeviceError
 from sim.engine import Engine
 
 
@@ -46,6 +47,10 @@ class SimCamera:
         self.name = name
         self.width = width
         self.height = height
+        self.dropout_until = -1.0
+        """Until this sim time every capture fails, as a USB camera that stops delivering does."""
 
     def capture(self) -> np.ndarray:
+        if self.pool.engine.time < self.dropout_until:
+            raise DeviceError(f"camera {self.name}: no frame (dropout)")
         return np.ascontiguousarray(self.pool.render(self.name, self.width, self.height)[:, :, ::-1])

@@ -14,7 +14,7 @@ wheel odometry diverges from ground truth exactly as it does on the robot.
 from __future__ import annotations
 
 import math
-from typing import Sequence
+from typing import Callable, Sequence
 
 import numpy as np
 
@@ -52,6 +52,8 @@ class SimDrive:
         self._rng = np.random.default_rng([engine.config.seed, 4])
         self._duties = np.zeros(4)
         self.powered = True
+        self.listeners: list[Callable[[float, np.ndarray], None]] = []
+        """Called with (sim time, duties) on every write: how a judge sees what reached the motors."""
         engine.attach(self)
 
     # --- HAL: WheelDriver --------------------------------------------------------------
@@ -60,6 +62,8 @@ class SimDrive:
         if d.shape != (4,) or not np.all(np.isfinite(d)):
             raise ValueError(f"expected 4 finite duties, got {duties!r}")
         self._duties = d
+        for listener in self.listeners:
+            listener(self.engine.time, d.copy())
         mag = np.abs(d)
         effective = np.where(mag < self.drive.dead_zone, 0.0, np.sign(d) * (mag - self.drive.dead_zone) / (1.0 - self.drive.dead_zone))
         if not self.powered:

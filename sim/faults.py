@@ -9,6 +9,7 @@ import math
 
 import mujoco
 
+from sim.cameras import SimCamera
 from sim.engine import Engine
 from sim.greenhouse import SPARE_BOXES
 from sim.lidar import SimLidar
@@ -18,12 +19,13 @@ from sim.servos import SimServoBus
 
 class SimFaults:
     def __init__(self, engine: Engine, lidar: SimLidar, servos: SimServoBus, battery: SimBattery,
-                 button: SimEStopButton, controllers=None):
+                 button: SimEStopButton, cameras: dict[str, SimCamera], controllers=None):
         self.engine = engine
         self._lidar = lidar
         self._servos = servos
         self._battery = battery
         self._button = button
+        self._cameras = cameras
         self.controllers = controllers
         self._boxes_used = 0
 
@@ -34,6 +36,10 @@ class SimFaults:
     def lidar_dropout(self, duration: float) -> None:
         """No scans for ``duration`` seconds (a USB hiccup)."""
         self._lidar.dropout_until = self.engine.time + duration
+
+    def camera_dropout(self, camera: str, duration: float) -> None:
+        """No frames from ``camera`` for ``duration`` seconds: every capture fails."""
+        self._cameras[camera].dropout_until = self.engine.time + duration
 
     def servo_stall(self, joint: str, mode: str = "unload") -> None:
         """The seed's shoulder_lift trip: ``unload`` (goes limp) or ``latch`` (ignores commands)."""

@@ -27,6 +27,7 @@ from mission.cli.hw import hw_app
 from mission.cli.map import map_app
 from mission.cli.mission import mission_app
 from mission.cli.patrol import patrol
+from mission.cli.scenario import scenario_app
 from mission.cli.sim import run_config, sim_app
 
 app = typer.Typer(
@@ -41,6 +42,7 @@ app.add_typer(sim_app, name="sim")
 app.add_typer(hw_app, name="hw")
 app.add_typer(map_app, name="map")
 app.add_typer(mission_app, name="mission")
+app.add_typer(scenario_app, name="scenario")
 app.command("detect")(detect)
 app.command("heal")(heal)
 app.command("patrol")(patrol)

@@ -26,7 +26,7 @@ from hw.drivers.i2c import open_bus
 from hw.drivers.ina226 import Ina226
 from hw.drivers.led_strip import SpiLedStrip
 from hw.drivers.mpu9250 import Mpu9250
-from hw.drivers.power_policy import PowerPolicy
+from hw.power_policy import PowerPolicy
 from hw.drivers.quadrature import QuadratureEncoders
 from hw.drivers.rplidar import RplidarC1
 from hw.drivers.tca9548a import Tca9548a

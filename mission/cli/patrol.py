@@ -67,6 +67,7 @@ def patrol(
     ctx: typer.Context,
     world: Optional[Path] = typer.Option(None, "--world", help="World file (default: the built-in greenhouse)."),
     mission: Optional[Path] = typer.Option(None, "--mission", help="Mission file (default: every pot of the world)."),
+    events: Optional[Path] = typer.Option(None, "--events", help="Events file (spec/events.md): timed operator actions and faults, sim only."),
     report: Path = typer.Option(DEFAULT_REPORT, "--report", help="Report JSON to write; images, map, config and run.png go beside it."),
     backend: Backend = typer.Option(Backend.sim, "--backend", help="sim (MuJoCo greenhouse) or hw (the robot)."),
     realtime: bool = typer.Option(False, "--realtime", help="Run the sim at wall-clock pace instead of as fast as possible."),
@@ -74,6 +75,7 @@ def patrol(
 ) -> None:
     """Run a scripted patrol mission to its end and write the report."""
     from mission.jobs.patrol import run_to_end, start_hw_patrol, start_sim_patrol
+    from mission.patrol.events_file import load_events
     from mission.patrol.mission_file import load_mission, mission_from_world
 
     config = run_config(ctx) if seed is None else with_seed(run_config(ctx), seed)
@@ -82,13 +84,16 @@ def patrol(
     if backend is Backend.hw:
         if mission is None or world is not None:
             raise InputError("lupin patrol --backend hw: give --mission (and no --world: the robot patrols its real greenhouse)")
+        if events is not None:
+            raise InputError("lupin patrol --backend hw: --events scripts faults into the sim; it does not drive the robot")
         m = load_mission(mission)
     else:
         w = world_or_default(world)
         m = mission_from_world(w) if mission is None else load_mission(mission)
+    script = [] if events is None else load_events(events, config)
     check_report(report)  # every input checked; only now does anything start
     run = (start_hw_patrol(m, config, report, time.perf_counter) if backend is Backend.hw
-           else start_sim_patrol(w, m, config, report, time.perf_counter))
+           else start_sim_patrol(w, m, config, report, time.perf_counter, script))
     progress = Progress(len(m.pots)) if sys.stdout.isatty() else None
     previous = signal.signal(signal.SIGTERM, _interrupt)  # a service stop aborts like Ctrl-C
     try:
@@ -119,5 +124,7 @@ def summary(doc: dict, report: Path) -> str:
         lines.append(f"  anomaly {a['kind']} at {a['pot']}: {a['detail']}")
     for t in doc["discovered_tags"]:
         lines.append(f"  discovered tag {t['id']} at ({t['x']:.2f}, {t['y']:.2f})")
+    for key, why in doc.get("notes", {}).items():
+        lines.append(f"  note {key}: {why}")
     lines.append(f"report: {report}")
     return "\n".join(lines)

@@ -19,6 +19,7 @@ from py_trees.common import Status
 from hw.atomic_file import write_atomic, write_png
 from hw.backend import HwBackend
 from hw.odometry import Pose2D
+from mission.jobs.events import EventPlayer
 from mission.jobs.navigate import NavigateRun, start_navigate
 from mission.patrol.climate import ClimateSource, NoClimate, WorldClimate
 from mission.patrol.mission_file import Mission
@@ -69,12 +70,16 @@ class PatrolRun:
     """The robot's map pose as it believed it, at 10 Hz."""
     sim: NavigateRun | None = None
     """The sim under it, for judging only (truth); None on the robot."""
+    events: EventPlayer | None = None
+    """The events file being played into the sim run, if any."""
 
     @property
     def done(self) -> bool:
         return self.tree.root.status in (Status.SUCCESS, Status.FAILURE)
 
     def outcome(self) -> str:
+        if self.tree.battery_low:
+            return "battery_low"
         if self.tree.root.status is not Status.SUCCESS or "home" in self.tree.notes:
             return "failed"
         return "completed"
@@ -88,7 +93,12 @@ class PatrolRun:
         self.robot.scheduler.cancel("mission")
         self.tree.root.stop(Status.INVALID)
 
-    def finish(self, outcome: str) -> dict:
+    @property
+    def elapsed(self) -> float:
+        """Runtime seconds since the mission started."""
+        return self.robot.scheduler.clock.now() - self.report.t0
+
+    def finish(self, outcome: str, reason: str = "") -> dict:
         """The end of a run: SLAM's map, the picture, and the report's final write."""
         occupancy = final_map(self.nav, self.robot.scheduler)
         directory = self.report.directory
@@ -97,8 +107,10 @@ class PatrolRun:
         write_png(directory / "run.png", self.picture(occupancy))
         write_atomic(directory / "tree.txt", (self.tree.render() + "\n").encode())
         extra = {"notes": self.tree.notes} if self.tree.notes else {}
-        if self.tree.root.status is Status.FAILURE:
-            extra["reason"] = self.tree.failure()
+        if self.events is not None and self.events.applied:
+            extra["events"] = self.events.applied
+        if reason or self.tree.root.status is Status.FAILURE:
+            extra["reason"] = reason or self.tree.failure()
         return self.report.finish(outcome, **extra)
 
     def picture(self, occupancy: OccupancyMap | None) -> np.ndarray:
@@ -118,8 +130,10 @@ class PatrolRun:
 def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinConfig, perception: PerceptionConfig,
                  report_path: Path, wall_now: Callable[[], float], close: Callable[[], None],
                  climate: ClimateSource | None = None,
-                 truth_error: Callable[[Pose2D], dict[str, float]] | None = None) -> PatrolRun:
-    """Schedule the tree (and the path trace) on a running robot with navigation."""
+                 truth_error: Callable[[Pose2D], dict[str, float]] | None = None,
+                 before_mission: Callable[[PatrolRun], None] = lambda run: None) -> PatrolRun:
+    """Schedule the tree (and the path trace) on a running robot with navigation;
+    ``before_mission(run)`` schedules what must run before the tree at a shared instant."""
     save_config(config, Path(report_path).parent)
     perception = reading_mission_tags(perception, mission)
     clock = robot.scheduler.clock
@@ -127,6 +141,7 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
     report = PatrolReport(Path(report_path), mission, config.patrol, climate or NoClimate(), clock.now, wall_now,
                           lambda: robot.base.odometry.distance, truth_error)
     tree = PatrolTree(mission, robot, nav, cameras, report, TagReader(perception.tag), config.patrol)
+    report.estop_events = tree.holds.estop_events
     run = PatrolRun(robot, nav, tree, report, close)
 
     def trace(now: float) -> None:
@@ -134,6 +149,7 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
         run.path.append((pose.x, pose.y))
 
     robot.scheduler.every("patrol.trace", TRACE_RATE, trace)
+    before_mission(run)
 
     def tick(now: float) -> None:
         tree.root.tick_once()
@@ -145,17 +161,21 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
 
 
 def start_sim_patrol(world: World, mission: Mission, config: LupinConfig, report_path: Path,
-                     wall_now: Callable[[], float]) -> PatrolRun:
-    """The patrol on the simulated greenhouse: the world's climate, truth for judging."""
+                     wall_now: Callable[[], float], events: list = ()) -> PatrolRun:
+    """The patrol on the simulated greenhouse: the world's climate, truth for judging, and the
+    events file's actions (``mission.jobs.events``) on the runtime clock from the start."""
     sim_run = start_navigate(world, config)
 
     def truth_error(goal: Pose2D) -> dict[str, float]:
         return pose_error(sim_run.to_map(sim_run.sim.truth()), goal)
 
-    run = start_patrol(sim_run.robot, sim_run.nav, mission, config, sim_perception(config), report_path, wall_now,
-                       sim_run.close, WorldClimate(world), truth_error)
-    run.sim = sim_run
-    return run
+    def play(run: PatrolRun) -> None:
+        run.sim = sim_run
+        run.events = EventPlayer(run.robot, run.nav, run.tree.holds, sim_run.sim.faults)
+        run.events.schedule(list(events), run.report.t0)
+
+    return start_patrol(sim_run.robot, sim_run.nav, mission, config, sim_perception(config), report_path, wall_now,
+                        sim_run.close, WorldClimate(world), truth_error, play)
 
 
 def start_hw_patrol(mission: Mission, config: LupinConfig, report_path: Path,
@@ -178,12 +198,17 @@ def start_hw_patrol(mission: Mission, config: LupinConfig, report_path: Path,
     return start_patrol(robot, nav, mission, config, config.perception, report_path, wall_now, close)
 
 
-def run_to_end(run: PatrolRun, on_step: Callable[[PatrolRun], None] = lambda r: None) -> dict:
-    """Tick until the tree ends, then finish; Ctrl-C aborts (the goal cancelled, the report
-    finished ``aborted`` with what was done). The run is closed whatever happens."""
+def run_to_end(run: PatrolRun, on_step: Callable[[PatrolRun], None] = lambda r: None,
+               limit: float | None = None) -> dict:
+    """Tick until the tree ends, then finish; Ctrl-C, or ``limit`` seconds of runtime clock,
+    aborts (the goal cancelled, the report finished ``aborted`` with what was done). The run is
+    closed whatever happens."""
     try:
         try:
             while not run.done:
+                if limit is not None and run.elapsed >= limit:
+                    run.abort()
+                    return run.finish("aborted", f"time limit: still running after {limit:g} s")
                 run.step()
                 on_step(run)
         except KeyboardInterrupt:

@@ -1,28 +1,42 @@
-"""The patrol as a py_trees tree: start-up gate, one branch per pot, then home.
+"""The patrol as a py_trees tree: guards, start-up gate, one branch per pot, then home.
 
 ::
 
-    Lupin patrol                              Sequence
-      start-up                                  Timeout(patrol.startup_timeout)
-        heal controllers                          the boot heal, one non-blocking pass
-        navigation ready                          the readiness cascade (scans, map, transform)
-        arm to travel                             Selector: the arm's travel pose, or note it (no arm)
-      patrol                                    Parallel: ends when the pots do
-        pots                                      Sequence, in the mission's order
-          P01                                       Selector: inspect, or record it failed
-            inspect P01                               Sequence
-              approach P01                              Retry(retries) > Timeout(nav_timeout) > NavigateTo
-              front camera P01                          Selector: ReadTags, or note no frame
-              wrist P01                                 Selector: arm to inspect (or aim) > DetectFlower,
-                                                                  or note what failed
-              record P01
-              stow arm P01                              Selector: arm to travel, or note it
-            P01 failed                                records the pot failed (unreachable)
-          ...
-        watch tags                                tags read en route (discovered_tags)
-      finish                                    Sequence
-        return home                               Selector: Retry > Timeout > NavigateTo, or note
-        park arm                                  Selector: arm to home, or note
+    Lupin patrol                              Hold: while the e-stop is engaged or latched
+      operator pause                            Hold: while the operator has paused
+        mission                                   Selector, priorities re-checked every tick
+          battery low                               Sequence: power-low (latched) > go home
+            battery low?                              the seed's policy: 20 s below 11.1 V
+            go home                                   return home, park arm (as at the end)
+          patrol                                    Sequence
+            start-up                                  OneShot > Timeout(patrol.startup_timeout)
+              heal controllers                          the boot heal, one non-blocking pass
+              navigation ready                          the readiness cascade (scans, map, transform)
+              arm to travel                             Selector: the arm's travel pose, or note it
+            pots and tags                             Parallel: ends when the pots do
+              pots                                      Sequence, in the mission's order
+                P01                                       OneShot: a finished pot is never redone
+                  visit P01                                 Selector: inspect, or record it failed
+                    inspect P01                               Sequence
+                      approach P01                              Retry(retries) > Timeout > NavigateTo
+                      front camera P01                          ReadTags, or note no frame
+                      wrist P01                                 arm to inspect (or aim) > DetectFlower,
+                                                                or note what failed
+                      record P01
+                      stow arm P01                              arm to travel, or note it
+                    P01 failed                                records the pot failed (unreachable)
+                ...
+              watch tags                                tags read en route (discovered_tags)
+            finish                                    return home (or note), park arm (or note)
+
+The guards (``behaviours.guard.Hold``, ``mission.patrol.holds``): the e-stop has priority over
+everything; when it engages, the running leaves are stopped, which cancels the navigation goal
+and holds the arm, and nothing moves again until the operator's ``resume`` after the release.
+Then the tree is ticked again: ``OneShot`` keeps the start-up gate and every finished pot done,
+so the patrol continues with the pot in progress, from its approach. Power-low aborts the
+patrol for the trip home (outcome ``battery_low``); a pause holds like the e-stop but needs no
+release. A paused robot does not drive home on power-low until resumed: the operator who paused
+it is in charge.
 
 A failed pot is recorded and the patrol goes on: every pot branch succeeds. Only the start-up
 gate (heal, readiness) can fail the tree. The tag is read first, right at arrival, while the arm
@@ -37,21 +51,23 @@ from typing import Callable
 import numpy as np
 import py_trees
 from py_trees.behaviour import Behaviour
-from py_trees.common import ParallelPolicy, Status
+from py_trees.common import OneShotPolicy, ParallelPolicy, Status
 from py_trees.composites import Parallel, Selector, Sequence
-from py_trees.decorators import Retry
+from py_trees.decorators import OneShot, Retry
 
 from arm.aim import CameraAim, view_target
 from arm.presets import PRESETS, preset
 from behaviours.arm import MoveArm
+from behaviours.guard import Hold
 from behaviours.navigate import NavigateTo
 from behaviours.perceive import DetectFlower, ReadTags, WatchTags
-from behaviours.steps import Do, WaitUntil
+from behaviours.steps import Check, Do, WaitUntil
 from behaviours.timeout import Timeout
 from behaviours.visit import PotVisit
 from hw.interfaces import Clock
 from hw.odometry import Pose2D
 from mission.patrol.config import PatrolConfig
+from mission.patrol.holds import MissionHolds
 from mission.patrol.mission_file import Mission, MissionPot, visit_order
 from mission.patrol.report import PatrolReport
 from mission.runtime.heal import heal_controllers
@@ -87,7 +103,10 @@ class PatrolTree:
     order: list[MissionPot] = field(default_factory=list)
     notes: dict[str, str] = field(default_factory=dict)
     """Steps outside any pot that failed without failing the patrol ('arm', 'home', 'park') ->
-    why. The patrol goes on without the arm; not getting home makes the outcome ``failed``."""
+    why, and 'battery' when power-low sent the robot home. The patrol goes on without the arm;
+    not getting home makes the outcome ``failed``."""
+    holds: MissionHolds | None = None
+    """The e-stop latch and the pause (default: on the robot's e-stop bridge)."""
     root: Behaviour | None = None
 
     def __post_init__(self) -> None:
@@ -98,6 +117,8 @@ class PatrolTree:
         start = self.nav.map_pose()
         self.order = visit_order(self.mission, (start.x, start.y))
         self.visits = {p.id: PotVisit(p.id) for p in self.order}
+        if self.holds is None:
+            self.holds = MissionHolds(self.robot.estop, self.clock.now, self.report.t0)
         self.root = self._build()
 
     @property
@@ -149,6 +170,31 @@ class PatrolTree:
         return preset(self.config.travel_pose), self.config.travel_pose
 
     # --- the tree ------------------------------------------------------------------------
+    def _battery_low(self) -> bool:
+        """Power-low, latched: a pack that recovers under a lighter load is still flat."""
+        power = self.robot.power
+        if power.state.low and "battery" not in self.notes:
+            v = power.reading.voltage if power.reading is not None else float("nan")
+            cfg = power.policy.config
+            self.notes["battery"] = (f"power low at t={self.clock.now() - self.report.t0:.1f} s ({v:.2f} V, below "
+                                     f"{cfg.min_voltage:g} V for {cfg.power_low_time:g} s): patrol aborted, going home")
+        return "battery" in self.notes
+
+    @property
+    def battery_low(self) -> bool:
+        return "battery" in self.notes
+
+    def _finish(self, name: str) -> Sequence:
+        """Drive home (when the mission says so) and park the arm, noting what failed."""
+        note = self.notes.__setitem__
+        steps = [self._or_note("park arm", self._arm("arm to home", lambda: (preset("home"), "home")),
+                               lambda reason: note("park", reason))]
+        if self.mission.return_home:
+            home = self.mission.home
+            steps.insert(0, self._or_note("return home", self._drive("drive home", lambda: Pose2D(home.x, home.y, home.yaw)),
+                                          lambda reason: note("home", reason)))
+        return Sequence(name, memory=True, children=steps)
+
     def _build(self) -> Behaviour:
         c, note = self.config, self.notes.__setitem__
         startup = Sequence("start-up", memory=True, children=[
@@ -160,15 +206,14 @@ class PatrolTree:
         pots = Sequence("pots", memory=True, children=[self._pot(p) for p in self.order])
         watch = WatchTags("watch tags", self.cameras["front"], self.tag_reader,
                           lambda frame, reads: self.report.saw(reads, self.nav.map_pose()))
-        patrol = Parallel("patrol", ParallelPolicy.SuccessOnSelected([pots]), children=[pots, watch])
-        finish = [self._or_note("park arm", self._arm("arm to home", lambda: (preset("home"), "home")),
-                                lambda reason: note("park", reason))]
-        if self.mission.return_home:
-            home = self.mission.home
-            finish.insert(0, self._or_note("return home", self._drive("drive home", lambda: Pose2D(home.x, home.y, home.yaw)),
-                                           lambda reason: note("home", reason)))
-        return Sequence("Lupin patrol", memory=True, children=[
-            self._timed(startup, c.startup_timeout), patrol, Sequence("finish", memory=True, children=finish)])
+        patrol = Sequence("patrol", memory=True, children=[
+            OneShot("start-up (once)", self._timed(startup, c.startup_timeout), OneShotPolicy.ON_COMPLETION),
+            Parallel("pots and tags", ParallelPolicy.SuccessOnSelected([pots]), children=[pots, watch]),
+            self._finish("finish")])
+        battery = Sequence("battery low", memory=True, children=[Check("battery low?", self._battery_low),
+                                                                  self._finish("go home")])
+        mission = Selector("mission", memory=False, children=[battery, patrol])
+        return Hold("Lupin patrol", Hold("operator pause", mission, self.holds.pause_reason), self.holds.estop)
 
     def _pot(self, pot: MissionPot) -> Behaviour:
         c, visit = self.config, self.visits[pot.id]
@@ -208,7 +253,8 @@ class PatrolTree:
         inspect_pot = Sequence(f"inspect {pot.id}", memory=True, children=[
             approach, Do(f"arrived {pot.id}", arrived), front, wrist, record, stow])
         failed = Do(f"{pot.id} failed", pot_failed)
-        return Selector(pot.id, memory=True, children=[inspect_pot, failed])
+        return OneShot(pot.id, Selector(f"visit {pot.id}", memory=True, children=[inspect_pot, failed]),
+                       OneShotPolicy.ON_COMPLETION)
 
     # --- reading it ----------------------------------------------------------------------
     def current_step(self) -> str:
@@ -216,6 +262,8 @@ class PatrolTree:
         display's 'current step'."""
         node = self.root
         while node is not None and node.children:
+            if isinstance(node, Hold) and node.reason:
+                return node.reason
             node = next((c for c in node.children if c.status is Status.RUNNING and not isinstance(c, WatchTags)), None)
         return node.name if node is not None else ""
 

@@ -9,6 +9,7 @@ base                  10 Hz      controller_manager update_rate: 10
 estop                 5 Hz       estop_bridge publishes /e_stop_state at 5 Hz
 leds                  5 Hz       status strip follows drive / e-stop activity
 arm                   10 Hz      arm HW interface write loop (dead-band re-assert) at 10 Hz
+power                 2 Hz       power_watcher: percentage, power-low after 20 s below 11.1 V
 ====================  =========  ==============================================
 
 Every velocity source publishes into ``mux``; the base controller reads only the mux, and
@@ -27,6 +28,8 @@ from hw.controller_manager import ControllerManager
 from hw.estop import EStopBridge
 from hw.interfaces import Hal
 from hw.leds import LedStatus, pick_state
+from hw.power_policy import RATE as POWER_RATE
+from hw.power_policy import PowerWatch
 from hw.twist_mux import TwistMux
 from mission.runtime.config import LupinConfig
 from mission.runtime.scheduler import Scheduler
@@ -47,6 +50,7 @@ class Robot:
     base: BaseController
     leds: LedStatus
     arm: ArmController
+    power: PowerWatch
     closers: list[Callable[[], None]] = field(default_factory=list)
     """What ``close`` shuts down (worker processes, devices), in order."""
 
@@ -57,7 +61,7 @@ class Robot:
 
     def _led_tick(self, now: float) -> None:
         c = self.base.command
-        self.leds.show(pick_state(estop=self.estop.engaged(), driving=max(abs(c.vx), abs(c.vy), abs(c.wz)) > 1e-3))
+        self.leds.show(pick_state(estop=self.estop.engaged(), battery_low=self.power.state.low, driving=max(abs(c.vx), abs(c.vy), abs(c.wz)) > 1e-3))
 
     def start(self) -> None:
         hw = self.config.hw
@@ -65,6 +69,7 @@ class Robot:
         self.scheduler.every("estop", hw.estop.publish_rate, self.estop.publish)
         self.scheduler.every("leds", LED_RATE, self._led_tick)
         self.scheduler.every("arm", self.config.arm.reassert.rate, self.arm.tick)
+        self.scheduler.every("power", POWER_RATE, self.power.tick)
 
 
 def build_robot(config: LupinConfig, hal: Hal, controllers: ControllerManager | None = None) -> Robot:
@@ -76,4 +81,5 @@ def build_robot(config: LupinConfig, hal: Hal, controllers: ControllerManager | 
     base = BaseController(hw.base, hal.wheels, hal.encoders, mux, estop, controllers)
     leds = LedStatus(hw.leds, hal.leds)
     arm = ArmController(config.arm, hw.servos, hal.servos, controllers, log)
-    return Robot(config, hal, Scheduler(hal.clock), controllers, mux, estop, base, leds, arm)
+    power = PowerWatch(hw.devices.power, hal.power, log)
+    return Robot(config, hal, Scheduler(hal.clock), controllers, mux, estop, base, leds, arm, power)

@@ -49,6 +49,16 @@ class Scheduler:
         self._tasks[name] = task
         heapq.heappush(self._heap, task)
 
+    def at(self, name: str, t: float, fn: Callable[[float], None]) -> None:
+        """Run ``fn`` once, at runtime time ``t`` (now, if ``t`` has passed). Tasks due at the
+        same instant run in the order they were registered, one-shot or periodic."""
+        if name in self._tasks:
+            raise ValueError(f"task {name!r} is already scheduled")
+        task = _Task(max(round(t * _NS), round(self.clock.now() * _NS)), self._order, 0, name, fn)
+        self._order += 1
+        self._tasks[name] = task
+        heapq.heappush(self._heap, task)
+
     def cancel(self, name: str) -> None:
         task = self._tasks.pop(name, None)
         if task is not None:
@@ -84,7 +94,9 @@ class Scheduler:
             if not task.active:
                 continue
             task.fn(t)
-            if task.active:
+            if not task.period_ns:  # one-shot: done
+                self.cancel(task.name)
+            elif task.active:
                 task.due_ns += task.period_ns
                 heapq.heappush(self._heap, task)
         return t

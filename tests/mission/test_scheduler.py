@@ -61,3 +61,18 @@ def test_a_task_can_cancel_itself():
     s.every("keep", 1.0, lambda t: None)
     s.run_until(1.0)
     assert hits == [0.0]
+
+
+def test_one_shot_tasks_run_once_at_their_instant_after_earlier_registered_tasks():
+    s = Scheduler(SimClock())
+    log = []
+    s.every("ctrl", 10.0, lambda t: log.append(("ctrl", t)))
+    s.at("press", 0.3, lambda t: log.append(("press", t)))
+    s.at("late", 0.05, lambda t: log.append(("late", t)))
+    s.run_until(1.0)
+    assert [e for e in log if e[0] != "ctrl"] == [("late", 0.05), ("press", 0.3)]
+    assert log.index(("ctrl", 0.3)) + 1 == log.index(("press", 0.3))  # same instant: registration order
+    assert "press" not in s.tasks and "late" not in s.tasks
+    s.at("press", 0.5, lambda t: log.append(("again", t)))  # in the past: runs now, name reusable
+    s.run_until(1.05)
+    assert ("again", 1.0) in log

@@ -55,17 +55,30 @@ class Rig:
     def __init__(self, planner=None, controller=None):
         self.pose, self.twist, self.estopped = Pose2D(), ZERO_TWIST, False
         self.published: list[tuple[float, Twist]] = []
-        scan = LidarScan(0.0, np.zeros(1, np.float32), np.full(1, np.inf, np.float32))
-        io = Sources(lambda: self.pose, lambda: self.twist, lambda: scan,
+        self.t = 0.0
+        self.scans = True
+        """False: the lidar stops delivering (the last scan ages)."""
+        self.last_scan = LidarScan(0.0, np.zeros(1, np.float32), np.full(1, np.inf, np.float32))
+        io = Sources(lambda: self.pose, lambda: self.twist, self.scan,
                      lambda t, now: self.published.append((now, t)), lambda: self.estopped)
         self.local, self.glob = FakeCostmap(), FakeCostmap()
         self.planner = planner or FakePlanner()
         self.controller = controller or FakeController()
         self.nav = Navigator(NavConfig(), io, OdometryOnly(), self.local, self.glob, self.planner, self.controller)
 
+    def scan(self):
+        if self.scans:
+            self.last_scan = LidarScan(self.t, self.last_scan.angles, self.last_scan.ranges)
+        return self.last_scan
+
+    def tick(self, t):
+        self.t = t
+        self.nav.tick_control(t)
+
     def run(self, until, t0=0.0):
         t = t0
         while t <= until and self.nav.active:
+            self.t = t
             self.nav.tick_control(t)
             if round(t * 20) % 20 == 0:
                 self.nav.tick_planner(t)
@@ -93,6 +106,23 @@ def test_repeated_planning_failures_fail_with_the_reason_and_hold_still():
     assert all(tw == ZERO_TWIST for _, tw in rig.published)
 
 
+def test_a_lidar_dropout_holds_the_goal_still_without_spending_its_time():
+    rig = Rig()
+    rig.nav.navigate_to(Pose2D(5.0, 0.0, 0.0), 0.0, timeout=4.0)
+    rig.run(1.0)
+    assert rig.published[-1][1].vx > 0
+    rig.scans = False
+    end = rig.run(13.0, t0=1.05)  # 12 s blind: longer than the timeout and the progress window
+    assert rig.nav.active and rig.nav.blind and end > 13.0
+    held = [tw for t, tw in rig.published if t > 1.0 + NavConfig().navigator.scan_timeout + 0.05]
+    assert held and all(tw == ZERO_TWIST for tw in held)
+    rig.scans = True
+    rig.run(13.5, t0=13.05)
+    assert rig.nav.active and not rig.nav.blind and rig.published[-1][1].vx > 0
+    rig.run(30.0, t0=13.55)  # the deadline was pushed by the blind time, not dropped
+    assert rig.nav.state is State.FAILED and rig.nav.reason.startswith("timeout")
+
+
 def test_timeout_cancel_and_estop_all_zero_the_auto_source():
     rig = Rig()
     rig.nav.navigate_to(Pose2D(5.0, 0.0, 0.0), 0.0, timeout=2.0)
@@ -101,17 +131,17 @@ def test_timeout_cancel_and_estop_all_zero_the_auto_source():
     assert rig.published[-1][1] == ZERO_TWIST
 
     rig.nav.navigate_to(Pose2D(5.0, 0.0, 0.0), 10.0)
-    rig.nav.tick_control(10.05)
+    rig.tick(10.05)
     assert rig.published[-1][1].vx > 0
     rig.nav.cancel(10.07)
     assert rig.nav.state is State.CANCELED and rig.published[-1] == (10.07, ZERO_TWIST)
 
     rig.nav.navigate_to(Pose2D(5.0, 0.0, 0.0), 11.0)
     rig.estopped = True
-    rig.nav.tick_control(11.05)
+    rig.tick(11.05)
     assert rig.nav.state is State.CANCELED and rig.nav.reason == "e-stop engaged"
     rig.estopped = False
-    rig.nav.tick_control(11.10)
+    rig.tick(11.10)
     assert rig.nav.state is State.CANCELED  # a release does not restart the goal
 
 
@@ -119,10 +149,10 @@ def test_success_needs_the_robot_at_rest_inside_the_tolerances():
     rig = Rig()
     rig.nav.navigate_to(Pose2D(0.1, 0.0, 0.05), 0.0)
     rig.twist = Twist(0.2, 0.0, 0.0)
-    rig.nav.tick_control(0.05)
+    rig.tick(0.05)
     assert rig.nav.state is State.FOLLOWING  # inside 0.25 m / 0.12 rad but still moving
     rig.twist = ZERO_TWIST
-    rig.nav.tick_control(0.10)
+    rig.tick(0.10)
     assert rig.nav.state is State.SUCCEEDED
     fb = rig.nav.feedback(0.1)
     assert fb.state is State.SUCCEEDED and fb.distance_remaining < 0.15
@@ -138,7 +168,7 @@ def test_a_robot_that_stops_short_fails_for_lack_of_progress_not_at_the_timeout(
     rig.nav.navigate_to(Pose2D(2.0, 0.0, 0.0), 20.0, timeout=60.0)
     for k in range(1, 400):  # now it creeps 0.1 m/s: 0.5 m every 5 s renews the checkpoint
         rig.pose = Pose2D(0.0, -0.005 * k, 0.0)
-        rig.nav.tick_control(20.0 + 0.05 * k)
+        rig.tick(20.0 + 0.05 * k)
         if not rig.nav.active:
             break
     assert rig.nav.state is State.FOLLOWING or rig.nav.reason.startswith("timeout")

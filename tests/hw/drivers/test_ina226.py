@@ -2,7 +2,7 @@ import pytest
 
 from hw.devices_config import Ina226Config
 from hw.drivers.ina226 import Ina226, calibration, config_word
-from hw.drivers.power_policy import PowerPolicy
+from hw.power_policy import PowerPolicy
 from hw.emulators.i2c_bus import I2cBusTwin
 from hw.emulators.ina226 import Ina226Twin
 from hw.errors import InputError

@@ -1,0 +1,88 @@
+"""Playing an events file (spec/events.md) into a simulated run, on the runtime clock.
+
+Each event is a one-shot task on the robot's scheduler at ``t0 + at`` (``t0``: the mission's
+start), registered before the mission's own tick, so at a shared instant the robot's services
+(base, e-stop publish) run first, then the events in file order, then the mission tree: a press
+at 40.0 is seen by the tree at 40.0 and by the wheels on the next control tick.
+
+Every action goes through the path the real thing takes: the button through the sim's pin and
+the e-stop bridge, the soft stop and ``resume`` / ``pause`` through the operator's commands,
+teleop through the twist_mux source it names (published at ``TELEOP_RATE`` for ``duration``; the
+mux times it out after), faults through ``sim.faults``, ``clear_map`` through the runtime's map
+reset. Nothing here touches the mission tree.
+"""
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+
+from hw.interfaces import Twist
+from mission.patrol import events_file as ev
+from mission.patrol.holds import MissionHolds
+from mission.runtime.navigation import clear_map
+from mission.runtime.robot import Robot
+from nav.navigator import Navigator
+from sim.faults import SimFaults
+
+log = logging.getLogger("lupin.events")
+
+TELEOP_RATE = 20.0
+"""A joystick / console publishes its twist at 20 Hz (well inside the mux's 0.3 s joy timeout)."""
+
+
+@dataclass
+class EventPlayer:
+    robot: Robot
+    nav: Navigator
+    holds: MissionHolds
+    faults: SimFaults
+    applied: list[dict] = field(default_factory=list)
+    """``{"t", "do"}`` of every event applied, t from the mission's start."""
+
+    def schedule(self, events: list, t0: float) -> None:
+        for i, event in enumerate(events):
+            self.robot.scheduler.at(f"event.{i}.{event.do}", t0 + event.at,
+                                    lambda now, e=event, i=i: self._apply(i, e, now, t0))
+
+    def _apply(self, i: int, e, now: float, t0: float) -> None:
+        log.info("event at t=%.2f: %s", now - t0, e.model_dump(exclude={"at"}))
+        self.applied.append({"t": round(now - t0, 3), "do": e.do})
+        f, robot = self.faults, self.robot
+        match e:
+            case ev.EStop():
+                f.estop(e.engaged)
+            case ev.SoftEStop():
+                robot.estop.set_soft(e.engaged)
+            case ev.Resume():
+                self.holds.resume()
+            case ev.Pause():
+                self.holds.pause()
+            case ev.LidarDropout():
+                f.lidar_dropout(e.duration)
+            case ev.ServoStall():
+                f.servo_stall(e.joint, e.mode)
+            case ev.Battery():
+                f.battery(e.voltage)
+            case ev.ClearMap():
+                clear_map(self.nav, now)
+            case ev.Teleop():
+                self._teleop(i, e, now)
+            case ev.PlaceBox():
+                f.place_box(e.x, e.y, e.sx, e.sy, e.yaw)
+            case ev.ControllerRace():
+                f.controller_race(e.controllers, e.state)
+            case ev.CameraDropout():
+                f.camera_dropout(e.camera, e.duration)
+
+    def _teleop(self, i: int, e: ev.Teleop, now: float) -> None:
+        name, twist, mux = f"event.{i}.teleop.publish", Twist(e.vx, e.vy, e.wz), self.robot.mux
+        end = now + e.duration
+        sched = self.robot.scheduler
+
+        def publish(t: float) -> None:
+            if t >= end:  # the stick is let go: the source falls silent, the mux times it out
+                sched.cancel(name)
+                return
+            mux.publish(e.source, twist, t)
+
+        sched.every(name, TELEOP_RATE, publish)

@@ -1,0 +1,152 @@
+"""Scenario files (contract: spec/scenario.md): one simulated patrol, its events, its outcome.
+
+A user pins down behaviour without writing Python: a world, a mission, an events list
+(spec/events.md) and the expectations the run must meet. Read like the other user files
+(``hw.input_file``): unknown keys rejected, every problem one line naming the file, the entry
+and the field; the world, mission and events it names are read and checked too, and the config
+overrides validated, all before anything runs (exit 2)::
+
+    estop.yaml: expect: field 'pots.inspected': must be all, a number or a list of pot ids (got 'most')
+    estop.yaml: events[1] (do estop): field 'engaged': missing required key
+
+Paths in a scenario are relative to the scenario file.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Literal, Optional, Union
+
+from pydantic import Field, ValidationError, field_validator
+
+from arm.presets import PRESETS
+from hw.errors import InputError
+from hw.input_file import StrictEntry, error_lines, kind_of, read_yaml
+from mission.patrol.events_file import parse_events
+from mission.patrol.mission_file import Mission, load_mission, mission_from_world
+from mission.runtime.config import LupinConfig, with_overrides, with_seed
+from sim.world import World, load_default_world, load_world
+
+OUTCOMES = ("completed", "aborted", "battery_low", "failed")
+
+PotSet = Union[Literal["all"], int, list[str]]
+"""``all``, how many, or which pot ids."""
+
+
+class PotsExpect(StrictEntry):
+    inspected: Optional[PotSet] = None
+    failed: Optional[PotSet] = None
+    skipped: Optional[PotSet] = None
+
+    @field_validator("inspected", "failed", "skipped", mode="before")
+    @classmethod
+    def _pot_set(cls, v: Any) -> Any:
+        ok = v is None or v == "all" or (isinstance(v, int) and not isinstance(v, bool) and v >= 0) or (
+            isinstance(v, list) and all(isinstance(i, str) for i in v))
+        if not ok:
+            raise ValueError(f"must be all, a number or a list of pot ids (got {kind_of(v)})")
+        return v
+
+
+class AnomalyExpect(StrictEntry):
+    kind: str
+    pot: Optional[str] = None
+    """The pot it must be recorded at (any pot when left out)."""
+
+
+class HomeExpect(StrictEntry):
+    within: float = Field(gt=0)
+    """Final ground-truth distance to the mission's home, m."""
+
+
+class EStopExpect(StrictEntry):
+    zero_duty_within_ticks: Optional[int] = Field(None, ge=1)
+    """After every press, all four wheel duties are zero within this many control ticks."""
+    still_until_resume: Optional[bool] = None
+    """No wheel duty and no motion between each release and the operator's resume."""
+
+
+class Expect(StrictEntry):
+    outcome: Optional[Literal["completed", "aborted", "battery_low", "failed"]] = None
+    max_sim_time: float = Field(600.0, gt=0)
+    """The run must end within this, s of runtime clock; a run still going then is stopped and
+    finished ``aborted`` (so ``outcome: aborted`` says "still held at the limit")."""
+    pots: Optional[PotsExpect] = None
+    anomalies: list[AnomalyExpect] = []
+    no_anomalies: list[str] = []
+    home: Optional[HomeExpect] = None
+    arm: Optional[str] = None
+    """The arm's final preset (``home``, ``inspect``, ...)."""
+    estop: Optional[EStopExpect] = None
+    report_files: list[str] = []
+    """Files that must exist beside the report."""
+
+    @field_validator("arm")
+    @classmethod
+    def _preset(cls, v: str | None) -> str | None:
+        if v is not None and v not in PRESETS:
+            raise ValueError(f"must be one of {', '.join(PRESETS)} (got {v!r})")
+        return v
+
+
+class ScenarioFile(StrictEntry):
+    name: str = Field(min_length=1)
+    description: str = ""
+    world: str = "default"
+    mission: str = "from-world"
+    seed: Optional[int] = None
+    config: dict[str, Any] = {}
+    events: list[Any] = []
+    expect: Expect = Expect()
+
+
+@dataclass
+class Scenario:
+    """A scenario with everything it names read and checked."""
+
+    path: Path
+    spec: ScenarioFile
+    world: World
+    mission: Mission
+    events: list
+    config: LupinConfig
+
+    @property
+    def name(self) -> str:
+        return self.spec.name
+
+    @property
+    def expect(self) -> Expect:
+        return self.spec.expect
+
+
+def _relative(base: Path, name: str) -> Path:
+    p = Path(name)
+    return p if p.is_absolute() else base.parent / p
+
+
+def parse_scenario(data: Any, path: Path, base_config: LupinConfig) -> Scenario:
+    source = str(path)
+    if not isinstance(data, dict):
+        raise InputError(f"{source}: top level: must be a mapping with keys name, expect, ... (got {kind_of(data)})")
+    try:
+        spec = ScenarioFile.model_validate(data)
+    except ValidationError as exc:
+        raise InputError("\n".join(f"{source}: {line}" for line in error_lines(exc, data, ScenarioFile))) from None
+    try:
+        config = with_overrides(base_config, spec.config)
+    except ValidationError as exc:
+        lines = [f"{source}: config: field '{'.'.join(map(str, e['loc']))}': {e['msg']}" for e in exc.errors()]
+        raise InputError("\n".join(lines)) from None
+    if spec.seed is not None:
+        config = with_seed(config, spec.seed)
+    world = load_default_world() if spec.world == "default" else load_world(_relative(path, spec.world))
+    mission = mission_from_world(world) if spec.mission == "from-world" else load_mission(_relative(path, spec.mission))
+    events = parse_events(spec.events, source, config)
+    return Scenario(path, spec, world, mission, events, config)
+
+
+def load_scenario(path: str | Path, base_config: LupinConfig | None = None) -> Scenario:
+    """Read and check a scenario and all it names; ``InputError`` (only) for anything wrong."""
+    path = Path(path)
+    return parse_scenario(read_yaml(path, "scenario file"), path, base_config or LupinConfig())
