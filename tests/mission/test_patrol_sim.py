@@ -116,7 +116,7 @@ def test_the_report_directory_holds_map_config_and_picture(default_patrol):
     assert (m.occupancy[iy - 3:iy + 4, ix - 3:ix + 4] == 100).any()
     assert load_config((p.directory / "config.yaml")) == load_config(env={"LUPIN_SIM__SEED": "0"})
     tree = (p.directory / "tree.txt").read_text().splitlines()
-    assert tree[0] == "{-} Lupin patrol [✓]"  # ended, and not ticked over again by the map's last steps
+    assert tree[0] == "-^- Lupin patrol [✓]"  # the e-stop guard at the root: ended, and not ticked over again by the map's last steps
     assert sum("--> record P" in line and "[✓]" in line for line in tree) == len(world.pots)
     picture = cv2.imread(str(p.directory / "run.png"))
     assert picture is not None and picture.shape[0] > 200
