@@ -37,7 +37,8 @@ class EventPlayer:
     holds: MissionHolds
     faults: SimFaults
     applied: list[dict] = field(default_factory=list)
-    """``{"t", "do"}`` of every event applied, t from the mission's start."""
+    """``{"t", "do"}`` of every event applied, t from the mission's start (the report's
+    ``events``); a refused ``resume`` also says why."""
 
     def schedule(self, events: list, t0: float) -> None:
         for i, event in enumerate(events):
@@ -46,7 +47,8 @@ class EventPlayer:
 
     def _apply(self, i: int, e, now: float, t0: float) -> None:
         log.info("event at t=%.2f: %s", now - t0, e.model_dump(exclude={"at"}))
-        self.applied.append({"t": round(now - t0, 3), "do": e.do})
+        entry = {"t": round(now - t0, 3), "do": e.do}
+        self.applied.append(entry)
         f, robot = self.faults, self.robot
         match e:
             case ev.EStop():
@@ -54,7 +56,9 @@ class EventPlayer:
             case ev.SoftEStop():
                 robot.estop.set_soft(e.engaged)
             case ev.Resume():
-                self.holds.resume()
+                refused = self.holds.resume()
+                if refused:
+                    entry["refused"] = refused
             case ev.Pause():
                 self.holds.pause()
             case ev.LidarDropout():

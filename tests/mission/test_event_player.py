@@ -7,6 +7,7 @@ import pytest
 
 from hw.interfaces import DeviceError
 from mission.jobs.patrol import start_sim_patrol
+from nav.navigator import State
 from mission.patrol.events_file import parse_events
 from mission.patrol.mission_file import mission_from_world
 from mission.runtime.config import LupinConfig
@@ -14,12 +15,14 @@ from sim.world import load_default_world
 
 EVENTS = [
     {"at": 0.0, "do": "controller_race", "controllers": ["mirte_base_controller"], "state": "inactive"},
-    {"at": 6.0, "do": "teleop", "source": "joy", "vx": 0.0, "vy": 0.0, "wz": 0.5, "duration": 1.0},
+    {"at": 3.5, "do": "teleop", "source": "joy", "vx": 0.0, "vy": 0.0, "wz": 0.5, "duration": 1.0},
+    {"at": 5.5, "do": "estop", "engaged": True},
+    {"at": 5.5, "do": "soft_estop", "engaged": True},
+    {"at": 6.0, "do": "estop", "engaged": False},
+    {"at": 6.2, "do": "resume"},
+    {"at": 6.5, "do": "soft_estop", "engaged": False},
+    {"at": 7.0, "do": "resume"},
     {"at": 9.0, "do": "pause"},
-    {"at": 9.5, "do": "estop", "engaged": True},
-    {"at": 9.5, "do": "soft_estop", "engaged": True},
-    {"at": 10.0, "do": "estop", "engaged": False},
-    {"at": 10.0, "do": "soft_estop", "engaged": False},
     {"at": 10.5, "do": "resume"},
     {"at": 11.0, "do": "lidar_dropout", "duration": 1.0},
     {"at": 11.0, "do": "camera_dropout", "camera": "wrist", "duration": 1.0},
@@ -40,22 +43,29 @@ def test_every_action_reaches_the_stack_at_its_time(tmp_path):
     t0 = run.report.t0
     try:
         sources = {}
-        while run.elapsed < 8.0:
+        while run.elapsed < 5.45:
             run.step()
             sources[round(run.elapsed, 2)] = robot.base.source
         assert robot.controllers.is_active("mirte_base_controller")  # healed by the start-up gate
-        assert sources[6.5] == "joy" and sources[6.9] == "joy"  # the dead-man holds the wheels
-        assert sources[7.5] != "joy"  # 0.3 s after the stick is let go, it no longer does
+        assert sources[4.0] == "joy" and sources[4.4] == "joy"  # the dead-man holds the wheels
+        assert sources[5.0] == "auto" and run.nav.active  # 0.3 s after the stick is let go, autonomy has them
+
+        sched.run_until(t0 + 5.55)
+        assert run.nav.state is State.CANCELED and run.tree.current_step() == "e-stop engaged"  # same instant
+        assert robot.base.source == "auto"  # the 5.5 control tick ran before the press ...
+        sched.run_until(t0 + 5.65)
+        assert robot.base.source == "estop" and not robot.base.last_duties.any()  # ... the next one stops the wheels
+        sched.run_until(t0 + 6.3)
+        assert run.tree.holds.latched  # the resume at 6.2 was refused: the soft stop still held
+        sched.run_until(t0 + 6.9)
+        assert "waiting for the operator's resume" in run.tree.current_step() and not run.nav.active
+        sched.run_until(t0 + 7.2)
+        assert not run.tree.holds.latched and run.nav.active  # resumed: the approach to P01 again
 
         sched.run_until(t0 + 9.2)
         assert run.tree.holds.paused and run.tree.current_step().startswith("paused")
-        assert not run.nav.active  # the pause stopped the approach: goal cancelled
-        sched.run_until(t0 + 9.6)
-        assert robot.estop.engaged() and robot.base.source == "estop"
-        sched.run_until(t0 + 10.2)
-        assert not robot.estop.engaged() and "waiting for the operator's resume" in run.tree.current_step()
         sched.run_until(t0 + 10.6)
-        assert not run.tree.holds.latched and not run.tree.holds.paused
+        assert not run.tree.holds.paused
 
         slam = run.nav.localisation
         spawned = slam.spawned
@@ -69,7 +79,8 @@ def test_every_action_reaches_the_stack_at_its_time(tmp_path):
         sched.run_until(t0 + 12.5)
         assert slam.spawned == spawned + 1  # a fresh worker, respawn_delay later
         assert robot.hal.lidar.latest_scan() is not None and robot.hal.cameras["wrist"].capture().shape[2] == 3
-        assert run.tree.holds.estop_events == [{"t": 9.5, "engaged": True}, {"t": 10.0, "engaged": False}]
+        assert run.tree.holds.estop_events == [{"t": 5.5, "engaged": True}, {"t": 6.5, "engaged": False}]
         assert [e["do"] for e in run.events.applied] == [e["do"] for e in EVENTS]
+        assert "still engaged" in run.events.applied[5]["refused"] and "refused" not in run.events.applied[7]
     finally:
         run.close()
