@@ -28,6 +28,7 @@ from mission.cli.map import map_app
 from mission.cli.mission import mission_app
 from mission.cli.patrol import patrol
 from mission.cli.scenario import scenario_app
+from mission.cli.serve import serve
 from mission.cli.sim import run_config, sim_app
 
 app = typer.Typer(
@@ -46,6 +47,7 @@ app.add_typer(scenario_app, name="scenario")
 app.command("detect")(detect)
 app.command("heal")(heal)
 app.command("patrol")(patrol)
+app.command("serve")(serve)
 
 
 @app.callback()

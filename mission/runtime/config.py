@@ -19,6 +19,7 @@ from arm.config import ArmConfig
 from hw.config import HwConfig
 from hw.errors import InputError
 from hw.input_file import read_yaml
+from mission.link.config import LinkConfig
 from mission.patrol.config import PatrolConfig
 from nav.config import NavConfig
 from perception.config import PerceptionConfig
@@ -45,6 +46,8 @@ class LupinConfig(BaseModel):
     """The MuJoCo greenhouse backend."""
     patrol: PatrolConfig = PatrolConfig()
     """The patrol mission: its beat, the waits around the cameras, what counts as a pot's tag."""
+    link: LinkConfig = LinkConfig()
+    """The operator link (Zenoh): robot name, endpoint, token, telemetry rates."""
 
 
 def _merge(base: dict, override: Mapping) -> dict:

@@ -1,0 +1,67 @@
+"""`lupin serve`: the runtime as a long-running service that consoles attach to over Zenoh.
+
+``--backend sim`` (default) runs the simulated greenhouse at wall-clock pace; ``--backend hw``
+the robot's devices. ``--listen ENDPOINT`` (default ``link.listen``) is where consoles connect;
+no multicast scouting. The operator token is ``link.token`` or, when that is empty, a random
+one printed at start-up. Ctrl-C or SIGTERM stops it cleanly (a running patrol is finished
+``aborted``, its report written).
+"""
+from __future__ import annotations
+
+import logging
+import secrets
+import signal
+import threading
+import time
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from hw.errors import InputError
+from mission.cli.patrol import Backend
+from mission.cli.sim import run_config, world_or_default
+from mission.runtime.config import with_overrides
+
+DEFAULT_RUNS = Path("lupin-runs")
+
+
+def serve(
+    ctx: typer.Context,
+    backend: Backend = typer.Option(Backend.sim, "--backend", help="sim (MuJoCo greenhouse, real time) or hw (the robot)."),
+    world: Optional[Path] = typer.Option(None, "--world", help="World file for the sim (default: the built-in greenhouse)."),
+    listen: Optional[str] = typer.Option(None, "--listen", help="Zenoh endpoint to listen on, e.g. tcp/0.0.0.0:7447 (default: link.listen)."),
+    runs: Path = typer.Option(DEFAULT_RUNS, "--runs", help="Each patrol's report goes to RUNS/<mission>-<k>/."),
+    fast: bool = typer.Option(False, "--fast", help="Sim only: run as fast as the machine allows instead of real time."),
+) -> None:
+    """Run the robot runtime as a service that consoles attach to."""
+    from mission.jobs.serve import run_service, start_hw_service, start_sim_service
+    from mission.link.server import LinkServer, check_endpoint
+
+    config = run_config(ctx)
+    check_endpoint(listen or config.link.listen, "--listen")
+    if backend is Backend.hw:
+        if world is not None or fast:
+            raise InputError("lupin serve --backend hw: --world and --fast are for the sim")
+        service = start_hw_service(config, runs, time.perf_counter)
+    else:
+        config = with_overrides(config, {"sim": {"realtime": not fast}})
+        w = world_or_default(world)  # checked before anything starts
+        service = start_sim_service(w, config, runs, time.perf_counter)
+    token = config.link.token or secrets.token_urlsafe(12)
+    try:
+        server = LinkServer(service, config.link, token, listen)
+    except BaseException:
+        service.close()
+        raise
+    logging.getLogger().setLevel(min(logging.getLogger().level, logging.INFO))
+    print(f"lupin serve: robot {config.link.robot!r} on {server.endpoint}"
+          f"{'' if config.link.token else f'; operator token {token}'}", flush=True)
+    stop = threading.Event()
+    previous = {s: signal.signal(s, lambda *_: stop.set()) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        run_service(service, stop, server.close)
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+    print("lupin serve: stopped", flush=True)

@@ -1,0 +1,202 @@
+"""`lupin serve`: the robot runtime as a long-running service that operators command.
+
+The robot's services and navigation run on the scheduler forever (the sim paced to the wall
+clock by default, the robot on it by nature). A patrol starts and ends on command
+(``mission_start`` / ``mission_abort``); when one ends, its report is finished in its own
+directory under ``runs`` and the robot stays up, ready for the next. Everything an operator can
+ask for is a method here, called on the runtime's own thread (``mission.link.server`` queues the
+link's commands onto the scheduler), so nothing here needs a lock.
+"""
+from __future__ import annotations
+
+import logging
+import threading
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+from arm.controller import ArmUnavailable
+from arm.limits import GRIPPER_CLOSED_DEG, GRIPPER_OPEN_DEG
+from arm.presets import UnknownPreset
+from hw.backend import HwBackend
+from hw.errors import InputError
+from hw.interfaces import Twist
+from hw.odometry import Pose2D
+from mission.jobs.patrol import PatrolRun, sim_perception, start_patrol
+from mission.link.commands import CommandRefused
+from mission.patrol.climate import ClimateSource, NoClimate, WorldClimate
+from mission.patrol.mission_file import Mission, mission_from_world, parse_mission
+from mission.patrol.report import pose_error
+from mission.runtime.config import LupinConfig
+from mission.runtime.heal import heal_controllers
+from mission.runtime.navigation import attach_navigation, clear_map
+from mission.runtime.robot import Robot, build_robot
+from mission.runtime.sim_runtime import start_sim_runtime
+from nav.frames import compose, inverse
+from nav.navigator import Navigator
+from perception.camera_pipeline import CameraPipeline, camera_pipelines
+from perception.config import PerceptionConfig
+from sim.world import World
+
+log = logging.getLogger("lupin")
+
+MANUAL = "manual"
+
+
+@dataclass
+class Service:
+    robot: Robot
+    nav: Navigator
+    config: LupinConfig
+    perception: PerceptionConfig
+    runs: Path
+    """Each patrol's report goes to ``runs/<mission>-<k>/``."""
+    wall_now: Callable[[], float]
+    default_mission: Callable[[], Mission]
+    climate: ClimateSource = field(default_factory=NoClimate)
+    truth_error: Callable[[Pose2D], dict[str, float]] | None = None
+    close_backend: Callable[[], None] = lambda: None
+    run: PatrolRun | None = None
+    outcome: str = ""
+    """The last patrol's outcome ('' before any)."""
+    cameras: dict[str, CameraPipeline] = field(default_factory=dict)
+    _count: int = 0
+
+    def __post_init__(self) -> None:
+        self.cameras = camera_pipelines(self.robot.hal.cameras, self.robot.scheduler.clock, self.perception)
+
+    @property
+    def now(self) -> float:
+        return self.robot.scheduler.clock.now()
+
+    def step(self) -> None:
+        """One scheduler step; a patrol that has just ended is finished (report, map, picture)."""
+        self.robot.scheduler.step()
+        if self.run is not None and self.run.done:
+            self._end(self.run.outcome())
+
+    def _end(self, outcome: str, reason: str = "") -> None:
+        run, self.run = self.run, None
+        self.outcome = run.finish(outcome, reason)["outcome"]
+        log.info("patrol %s: %s (report %s)", run.tree.mission.name, self.outcome, run.report.path)
+
+    def close(self) -> None:
+        if self.run is not None:
+            self.run.abort()
+            self._end("aborted", "the service was stopped")
+        self.robot.close()
+        self.close_backend()
+
+    # --- what an operator can do (mission.link.view.COMMANDS) --------------------------------
+    def estop(self, engaged: bool) -> None:
+        self.robot.estop.set_soft(engaged)
+
+    def resume(self) -> None:
+        if self.robot.estop.engaged():
+            raise CommandRefused("resume refused: the e-stop is still engaged (release it first)")
+        if self.run is not None:
+            refused = self.run.tree.holds.resume()
+            if refused:
+                raise CommandRefused(refused)
+
+    def pause(self) -> None:
+        if self.run is None:
+            raise CommandRefused("pause: no mission is running")
+        self.run.tree.holds.pause()
+
+    def mission_start(self, mission: dict | None = None) -> None:
+        if self.run is not None:
+            raise CommandRefused(f"mission_start: {self.run.tree.mission.name!r} is still running (abort it first)")
+        try:
+            m = self.default_mission() if mission is None else parse_mission(mission, "mission")
+        except InputError as exc:
+            raise CommandRefused(f"mission_start: {exc}") from None
+        self._count += 1
+        report = self.runs / f"{m.name}-{self._count}" / "report.json"
+        self.run = start_patrol(self.robot, self.nav, m, self.config, self.perception, report, self.wall_now,
+                                lambda: None, self.climate, self.truth_error)
+        log.info("patrol %s started (%d pots)", m.name, len(m.pots))
+
+    def mission_abort(self) -> None:
+        if self.run is None:
+            raise CommandRefused("mission_abort: no mission is running")
+        self.run.abort()
+        self._end("aborted", "aborted by the operator")
+
+    def teleop(self, vx: float, vy: float, wz: float) -> None:
+        self.robot.mux.publish(MANUAL, Twist(vx, vy, wz), self.now)
+
+    def arm_preset(self, name: str) -> None:
+        try:
+            self.robot.arm.preset(name)
+        except (UnknownPreset, ArmUnavailable) as exc:
+            raise CommandRefused(f"arm_preset: {exc}") from None
+
+    def gripper(self, action: str, deg: float | None = None) -> None:
+        if action == "angle" and deg is None:
+            raise CommandRefused("gripper: action 'angle' needs deg (-30 open .. +30 closed)")
+        try:
+            self.robot.arm.grip({"open": GRIPPER_OPEN_DEG, "close": GRIPPER_CLOSED_DEG}.get(action, deg))
+        except ArmUnavailable as exc:
+            raise CommandRefused(f"gripper: {exc}") from None
+
+    def clear_map(self) -> None:
+        try:
+            clear_map(self.nav, self.now)
+        except InputError as exc:
+            raise CommandRefused(str(exc)) from None
+
+    def heal(self) -> None:
+        names = tuple(self.config.hw.controllers)
+        healed = heal_controllers(self.robot.controllers, names, self.robot.scheduler.clock, budget=0.0)
+        if not healed.healed:
+            raise CommandRefused(f"heal: {healed.message}")
+
+    def snapshot(self, camera: str) -> bytes:
+        frame = self.cameras[camera].request()
+        if frame is None:
+            raise CommandRefused(f"snapshot: the {camera} camera gave no frame")
+        return frame.jpeg
+
+
+def run_service(service: Service, stop: threading.Event, on_close: Callable[[], None] = lambda: None) -> None:
+    """Step ``service`` until ``stop`` is set, then close it on this same thread (the sim's
+    renderers belong to the thread that made them). ``on_close`` runs first (the link)."""
+    try:
+        while not stop.is_set():
+            service.step()
+    finally:
+        on_close()
+        service.close()
+
+
+def start_hw_service(config: LupinConfig, runs: Path, wall_now: Callable[[], float]) -> Service:
+    """The service on the robot's devices (a missing one is a clear error before anything
+    moves). There is no world to patrol by default: ``mission_start`` needs a mission."""
+    backend = HwBackend(config.hw)
+    try:
+        robot = build_robot(config, backend.hal)
+        robot.start()
+        nav = attach_navigation(robot)
+    except BaseException:
+        backend.close()
+        raise
+
+    def no_default() -> Mission:
+        raise CommandRefused("mission_start: the robot has no built-in mission; send one (spec/mission.md)")
+
+    return Service(robot, nav, config, config.perception, Path(runs), wall_now, no_default, close_backend=backend.close)
+
+
+def start_sim_service(world: World, config: LupinConfig, runs: Path, wall_now: Callable[[], float]) -> Service:
+    """The service on the simulated greenhouse: the world's climate, truth for judging pots."""
+    rt = start_sim_runtime(world, config)
+    nav = attach_navigation(rt.robot)
+    dock = inverse(Pose2D(world.spawn.x, world.spawn.y, world.spawn.yaw))
+
+    def truth_error(goal: Pose2D) -> dict[str, float]:
+        return pose_error(compose(dock, rt.sim.truth()), goal)
+
+    return Service(rt.robot, nav, config, sim_perception(config), Path(runs), wall_now, lambda: mission_from_world(world),
+                   WorldClimate(world), truth_error, rt.sim.close)
+

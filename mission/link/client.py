@@ -1,0 +1,124 @@
+"""The client's end of the link: telemetry folded into a ``RobotView``, commands as queries.
+
+A console (or a test, or a second console) opens one ``LinkClient`` on the runtime's endpoint.
+Telemetry arrives on Zenoh's threads and is folded into the view under a lock; ``view()`` hands
+the UI a consistent copy-free snapshot reference. A topic it cannot read is dropped (and
+counted), never raised. ``send`` returns None when the runtime accepted a command, else the
+one-line reason it gave (or that nobody answered).
+"""
+from __future__ import annotations
+
+import json
+import threading
+import time
+import zlib
+from collections import deque
+
+import numpy as np
+import zenoh
+
+from mission.link.server import session_config
+from mission.link.view import GridView, PotView, RobotView
+from mission.link.wire import Grid, apply_grid, cmd_key, dumps, tel_key
+
+STALE_S = 1.0
+"""No telemetry for this long (wall time, at the console) and the view says disconnected."""
+LOG_LINES = 200
+
+
+class LinkClient:
+    def __init__(self, endpoint: str, robot: str, token: str = "", timeout: float = 3.0):
+        self.robot, self.token, self.timeout = robot, token, timeout
+        self.session = zenoh.open(session_config("connect", endpoint))
+        self._lock = threading.Lock()
+        self._view = RobotView(robot=robot)
+        self._grids: dict[str, Grid | None] = {"map": None, "costmap": None}
+        self._log: deque[str] = deque(maxlen=LOG_LINES)
+        self._last_rx = float("-inf")
+        self.bad_messages = 0
+        self.received: dict[str, int] = {}
+        self._sub = self.session.declare_subscriber(tel_key(robot, "**"), self._on_sample)
+
+    # --- telemetry -----------------------------------------------------------------------------
+    def _on_sample(self, sample: zenoh.Sample) -> None:
+        topic = str(sample.key_expr).rsplit("/", 1)[-1]
+        data = sample.payload.to_bytes()
+        try:
+            with self._lock:
+                self._fold(topic, data)
+                self._last_rx = time.monotonic()
+                self.received[topic] = self.received.get(topic, 0) + 1
+        except Exception:  # a garbled message is dropped, not raised into Zenoh
+            self.bad_messages += 1
+
+    def _fold(self, topic: str, data: bytes) -> None:
+        v = self._view
+        if topic in ("map", "costmap"):
+            g = apply_grid(self._grids[topic], data)
+            self._grids[topic] = g
+            if g is not None:
+                setattr(v, "grid" if topic == "map" else "costmap", GridView(g.data, g.resolution, g.origin_x, g.origin_y))
+            return
+        if topic == "scan":
+            v.scan = np.frombuffer(data, np.float16).astype(float).reshape(-1, 2)
+            return
+        if topic == "tree":
+            v.tree = zlib.decompress(data).decode("utf-8", "replace")
+            return
+        if topic == "log":
+            self._log.append(data.decode("utf-8", "replace"))
+            v.log = list(self._log)
+            return
+        m = json.loads(data)
+        if topic == "state":
+            v.t, v.pose, v.velocity, v.mux_source = m["t"], tuple(m["pose"]), tuple(m["velocity"]), m["mux"]
+            v.estop_engaged, v.estop_latched = m["estop"]["engaged"], m["estop"]["latched"]
+            b = m["battery"]
+            v.battery_voltage = b["voltage"] if b["voltage"] is not None else float("nan")
+            v.battery_percentage = b["percentage"] if b["percentage"] is not None else float("nan")
+            v.battery_low = b["low"]
+        elif topic == "nav":
+            v.nav_state, v.nav_reason = m["state"], m["reason"]
+            v.goal = tuple(m["goal"]) if m["goal"] else None
+            v.plan = np.asarray(m["plan"], dtype=float).reshape(-1, 2)
+        elif topic == "status":
+            v.controllers = dict(m["controllers"])
+        elif topic == "mission":
+            v.mission_state, v.mission_name, v.mission_step = m["state"], m["name"], m["step"]
+            v.mission_outcome = m["outcome"]
+        elif topic == "pots":
+            v.pots = [PotView(p["id"], p["x"], p["y"], p["status"], p["tag"], p["flower"], p["blooms"], p["anomalies"])
+                      for p in m["pots"]]
+
+    def view(self) -> RobotView:
+        """The latest view (the same object, updated in place; read it on the UI's timer)."""
+        with self._lock:
+            self._view.connected = time.monotonic() - self._last_rx < STALE_S
+            return self._view
+
+    # --- commands ------------------------------------------------------------------------------
+    def _query(self, name: str, args: dict) -> tuple[bytes | None, str | None]:
+        try:
+            replies = self.session.get(cmd_key(self.robot, name), payload=dumps({**args, "token": self.token}),
+                                       timeout=self.timeout)
+            for reply in replies:
+                if reply.ok is not None:
+                    return reply.ok.payload.to_bytes(), None
+                try:
+                    return None, json.loads(reply.err.payload.to_bytes())["error"]
+                except (ValueError, KeyError, TypeError):
+                    return None, reply.err.payload.to_bytes().decode("utf-8", "replace")
+        except zenoh.ZError as exc:
+            return None, f"{name}: link error: {exc}"
+        return None, f"{name}: no answer from robot {self.robot!r} within {self.timeout:g} s (is `lupin serve` running?)"
+
+    def send(self, command: str, /, **args) -> str | None:
+        return self._query(command, args)[1]
+
+    def snapshot(self, camera: str) -> bytes | None:
+        data, error = self._query("snapshot", {"camera": camera})
+        return data if error is None else None
+
+    def close(self) -> None:
+        self._sub.undeclare()
+        self.session.close()

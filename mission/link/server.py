@@ -1,0 +1,129 @@
+"""The runtime's end of the link: a Zenoh session that publishes telemetry and answers commands.
+
+Commands arrive on Zenoh's threads. Each is checked there (``mission.link.commands``), then
+handed to the runtime's own thread through a queue that a 20 Hz scheduler task drains, so the
+robot's state is only ever touched by the loop that owns it; the Zenoh thread waits (at most
+``link.command_timeout``) for the answer and replies, the loop never waits for anyone. One
+exception, on purpose: engaging the soft e-stop is applied at once on the Zenoh thread (one
+attribute write that the base controller reads on its next tick), so a stop does not also
+wait for the queue's beat.
+"""
+from __future__ import annotations
+
+import logging
+import queue
+import re
+import threading
+from dataclasses import dataclass, field
+
+import zenoh
+
+from hw.errors import InputError
+from mission.link.commands import CommandRefused, parse_command
+from mission.link.config import LinkConfig
+from mission.link.outbox import Outbox
+from mission.link.telemetry import LinkLogHandler, Telemetry
+from mission.link.wire import cmd_key, dumps
+
+log = logging.getLogger("lupin.link")
+
+COMMAND_RATE = 20.0
+"""How often the runtime takes queued commands, Hz: at most 50 ms added to an operator's action."""
+
+
+ENDPOINT = re.compile(r"^(tcp|udp|tls|quic|ws|unixsock-stream)/\S+$")
+
+
+def check_endpoint(endpoint: str, option: str) -> str:
+    """``proto/address`` as Zenoh spells it, e.g. ``tcp/127.0.0.1:7447``; InputError otherwise."""
+    if not ENDPOINT.match(endpoint):
+        raise InputError(f"{option} {endpoint}: not a Zenoh endpoint (expected e.g. tcp/127.0.0.1:7447)")
+    return endpoint
+
+
+def session_config(mode: str, endpoint: str) -> zenoh.Config:
+    """An explicit Zenoh config: ``listen`` (peer) or ``connect`` (client), no multicast scouting."""
+    conf = zenoh.Config()
+    conf.insert_json5("mode", '"peer"' if mode == "listen" else '"client"')
+    conf.insert_json5(f"{mode}/endpoints", dumps([endpoint]).decode())
+    conf.insert_json5("scouting/multicast/enabled", "false")
+    return conf
+
+
+@dataclass
+class _Pending:
+    name: str
+    args: object
+    done: threading.Event = field(default_factory=threading.Event)
+    result: bytes | None = None
+    error: str | None = None
+
+
+class LinkServer:
+    def __init__(self, service, config: LinkConfig, token: str, endpoint: str | None = None):
+        self.service, self.config, self.token = service, config, token
+        self.endpoint = check_endpoint(endpoint or config.listen, "--listen")
+        try:
+            self.session = zenoh.open(session_config("listen", self.endpoint))
+        except zenoh.ZError as exc:
+            raise InputError(f"--listen {self.endpoint}: cannot listen there: {exc}") from None
+        self.outbox = Outbox(self.session.put, config.queue)
+        self.telemetry = Telemetry(service, self.outbox, config.robot)
+        self._inbox: queue.SimpleQueue[_Pending] = queue.SimpleQueue()
+        self._queryable = self.session.declare_queryable(cmd_key(config.robot, "*"), self._on_query)
+        self._log = LinkLogHandler(self.outbox, config.robot, lambda: service.now)
+        logging.getLogger().addHandler(self._log)
+        sched = service.robot.scheduler
+        sched.every("link.fast", config.fast_rate, self.telemetry.fast)
+        sched.every("link.slow", config.slow_rate, self.telemetry.slow)
+        sched.every("link.maps", config.map_rate, self.telemetry.maps)
+        sched.every("link.commands", COMMAND_RATE, self._drain)
+        self.commands_done = 0
+
+    # --- Zenoh's threads -----------------------------------------------------------------------
+    def _on_query(self, query: zenoh.Query) -> None:
+        name = str(query.key_expr).rsplit("/", 1)[-1]
+        payload = query.payload.to_bytes() if query.payload is not None else b""
+        try:
+            args = parse_command(name, payload, self.token)
+        except CommandRefused as exc:
+            query.reply_err(dumps({"error": str(exc)}))
+            return
+        if name == "estop" and args.engaged:
+            self.service.estop(True)  # at once: see the module docstring
+            query.reply(query.key_expr, dumps({"ok": True}))
+            return
+        pending = _Pending(name, args)
+        self._inbox.put(pending)
+        if not pending.done.wait(self.config.command_timeout):
+            query.reply_err(dumps({"error": f"{name}: the runtime did not answer within {self.config.command_timeout:g} s"}))
+        elif pending.error is not None:
+            query.reply_err(dumps({"error": pending.error}))
+        else:
+            query.reply(query.key_expr, pending.result if pending.result is not None else dumps({"ok": True}))
+
+    # --- the runtime's thread ------------------------------------------------------------------
+    def _drain(self, now: float) -> None:
+        while True:
+            try:
+                p = self._inbox.get_nowait()
+            except queue.Empty:
+                return
+            try:
+                out = getattr(self.service, p.name)(**p.args.model_dump(exclude={"token"}))
+                p.result = out if isinstance(out, bytes) else None
+            except CommandRefused as exc:
+                p.error = str(exc)
+            except Exception as exc:  # a command must never take the loop down
+                log.exception("command %s failed", p.name)
+                p.error = f"{p.name} failed: {exc}"
+            self.commands_done += 1
+            p.done.set()
+
+    def close(self) -> None:
+        for task in ("link.fast", "link.slow", "link.maps", "link.commands"):
+            self.service.robot.scheduler.cancel(task)
+        logging.getLogger().removeHandler(self._log)
+        self._queryable.undeclare()
+        self.outbox.close()
+        self.session.close()

@@ -1,0 +1,144 @@
+"""Telemetry: what the runtime tells every client, topic by topic, at three beats.
+
+=========  =========  ==========================================================================
+topic      beat       content
+=========  =========  ==========================================================================
+state      fast 10Hz  pose (map), velocity, active mux source, e-stop (engaged, latched), battery
+nav        slow 2Hz   navigation state and reason, goal, the plan (every 4th point)
+mission    slow 2Hz   mission state, name, current step, pots done / total, outcome
+tree       slow 2Hz   py_trees' unicode tree with statuses, zlib'd UTF-8, when it changed (and
+                      every 10th beat, for late joiners)
+pots       slow 2Hz   each pot: position, status, tag read, flower, anomalies
+status     slow 2Hz   controller states
+scan       slow 2Hz   the lidar scan as map-frame points (every 2nd beam, float16)
+map        map 1Hz    SLAM's occupancy grid, as deltas (``mission.link.wire``)
+costmap    map 1Hz    the inflated global costmap scaled to 0..100, as deltas
+log        as logged  every log record that passes the loggers' levels (INFO and up under
+                      ``lupin serve``), one line each
+=========  =========  ==========================================================================
+
+The control thread only gathers numbers (cheap reads, copies of small arrays) and hands a
+closure to the outbox; JSON, zlib and the network happen on the sender thread.
+"""
+from __future__ import annotations
+
+import logging
+import math
+import zlib
+
+import numpy as np
+
+from mission.link.outbox import Outbox
+from mission.link.wire import Grid, GridSender, dumps, tel_key
+
+TREE_KEYFRAME = 10
+"""The tree text is sent when it changes and every 10th slow beat (5 s) for late joiners."""
+TOPICS = ("state", "nav", "mission", "tree", "pots", "status", "scan", "map", "costmap", "log")
+
+
+def _r(v: float, nd: int = 3) -> float | None:
+    return round(float(v), nd) if math.isfinite(v) else None
+
+
+class Telemetry:
+    def __init__(self, service, outbox: Outbox, robot_name: str):
+        self.service, self.outbox, self.robot_name = service, outbox, robot_name
+        self._map, self._costmap = GridSender(), GridSender()
+        self._tree_text = ""
+        self._beats = 0
+
+    def _post(self, topic: str, payload) -> None:
+        self.outbox.post(tel_key(self.robot_name, topic), payload)
+
+    # --- the three beats ---------------------------------------------------------------------
+    def fast(self, now: float) -> None:
+        s = self.service
+        robot, pose, tw = s.robot, s.nav.map_pose(), s.robot.base.odometry.twist
+        power = robot.power
+        volts = power.reading.voltage if power.reading is not None else float("nan")
+        msg = {"t": round(now, 3), "pose": [_r(pose.x), _r(pose.y), _r(pose.yaw)],
+               "velocity": [_r(tw.vx), _r(tw.vy), _r(tw.wz)], "mux": robot.base.source,
+               "estop": {"engaged": robot.estop.engaged(),
+                         "latched": bool(s.run is not None and s.run.tree.holds.latched)},
+               "battery": {"voltage": _r(volts, 2), "percentage": _r(power.state.percentage, 1), "low": power.state.low}}
+        self._post("state", lambda: dumps(msg))
+
+    def slow(self, now: float) -> None:
+        s = self.service
+        nav = s.nav
+        plan = nav.path[::4] if nav.path is not None else np.zeros((0, 2))
+        goal = [_r(nav.goal.x), _r(nav.goal.y), _r(nav.goal.yaw)] if nav.goal is not None and nav.active else None
+        nav_msg = {"state": nav.state.value, "reason": nav.reason, "goal": goal,
+                   "plan": np.round(plan, 3).tolist(), "blind": nav.blind}
+        self._post("nav", lambda: dumps(nav_msg))
+        self._post("status", lambda m={n: st.value for n, st in s.robot.controllers.states().items()}: dumps({"controllers": m}))
+        self._mission()
+        self._scan()
+
+    def maps(self, now: float) -> None:
+        s = self.service
+        occ = getattr(s.nav.localisation, "occupancy", None)
+        if occ is not None:
+            grid = Grid(occ.occupancy, occ.resolution, occ.origin_x, occ.origin_y)
+            self._post("map", lambda g=grid: self._map.encode(g))
+        cg = s.nav.global_costmap.grid
+        scaled = np.where(cg.data == 255, -1, np.minimum(cg.data, 254).astype(np.int16) * 100 // 254).astype(np.int8)
+        self._post("costmap", lambda g=Grid(scaled, cg.resolution, cg.origin_x, cg.origin_y): self._costmap.encode(g))
+
+    # --- pieces --------------------------------------------------------------------------------
+    def _mission(self) -> None:
+        s, run = self.service, self.service.run
+        if run is None:
+            msg = {"state": "idle" if not s.outcome else "done", "name": "", "step": "", "pots_done": 0,
+                   "pots_total": 0, "outcome": s.outcome}
+            self._post("mission", lambda: dumps(msg))  # the last patrol's pots stay on the clients' screens
+            return
+        tree, holds = run.tree, run.tree.holds
+        state = "estop" if holds.latched else "paused" if holds.paused else "running"
+        msg = {"state": state, "name": tree.mission.name, "step": tree.current_step(), "pots_done": tree.pots_done(),
+               "pots_total": len(tree.mission.pots), "outcome": ""}
+        self._post("mission", lambda: dumps(msg))
+        text = tree.render()
+        self._beats += 1
+        if text != self._tree_text or self._beats % TREE_KEYFRAME == 0:
+            self._post("tree", lambda: zlib.compress(text.encode(), 6))
+        self._tree_text = text
+        current = tree.current_step()
+        pots = []
+        for p in tree.mission.pots:
+            entry = run.report.pots.get(p.id)
+            status = entry["status"] if entry else ("active" if current.endswith(f" {p.id}") else "pending")
+            flower = (entry or {}).get("flower") or {}
+            pots.append({"id": p.id, "x": p.x, "y": p.y, "status": status, "tag": (entry or {}).get("tag_read"),
+                         "flower": flower.get("color"), "blooms": flower.get("blooms", 0),
+                         "anomalies": [a["kind"] for a in run.report.anomalies if a["pot"] == p.id]})
+        self._post("pots", lambda: dumps({"pots": pots}))
+
+    def _scan(self) -> None:
+        s = self.service
+        scan = s.robot.hal.lidar.latest_scan()
+        if scan is None:
+            return
+        pose = s.nav.map_pose()
+        mx, my, myaw = s.config.nav.navigator.lidar_mount
+        c, si = math.cos(pose.yaw), math.sin(pose.yaw)
+        lx, ly = pose.x + c * mx - si * my, pose.y + si * mx + c * my
+        r, a = scan.ranges[::2], scan.angles[::2] + (pose.yaw + myaw)
+        ok = np.isfinite(r)
+        pts = np.stack([lx + r[ok] * np.cos(a[ok]), ly + r[ok] * np.sin(a[ok])], axis=1).astype(np.float16)
+        self._post("scan", lambda: pts.tobytes())
+
+
+class LinkLogHandler(logging.Handler):
+    """Log records, posted as ``log`` lines (never blocks; drops with the outbox when full)."""
+
+    def __init__(self, outbox: Outbox, robot_name: str, now):
+        super().__init__(logging.INFO)
+        self.outbox, self.key, self.now = outbox, tel_key(robot_name, "log"), now
+
+    def emit(self, record: logging.LogRecord) -> None:
+        try:
+            line = f"{self.now():8.1f} {record.levelname[0]} {record.getMessage()}"
+        except Exception:  # a broken log call must not break the robot
+            return
+        self.outbox.post(self.key, lambda: line.encode())

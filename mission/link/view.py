@@ -1,0 +1,97 @@
+"""What an operator sees of a robot: the console's view model, filled from the link's telemetry.
+
+The runtime publishes topics (``mission.link.keys``); a client folds each message into one
+:class:`RobotView` with :meth:`RobotView.apply`. The console draws only from a ``RobotView``
+and acts only through a :class:`Commands` object, so it runs the same over Zenoh, against an
+in-process runtime, or in a test against a hand-made view.
+
+Every field is plain data (JSON on the wire), map frame, SI units, radians.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Protocol
+
+import numpy as np
+
+#: Commands the runtime answers (``lupin/<robot>/cmd/<name>``) and their arguments.
+COMMANDS: dict[str, str] = {
+    "estop": "engaged: bool (engaging is allowed without the token)",
+    "resume": "",
+    "pause": "",
+    "mission_start": "mission: optional mission (spec/mission.md as a mapping); default every pot",
+    "mission_abort": "",
+    "teleop": "vx, vy, wz: float (m/s, rad/s) on the 'manual' source",
+    "arm_preset": "name: a preset (home, zero, tuck, inspect, ...)",
+    "gripper": "action: open | close | angle, deg: float for angle (-30 open .. +30 closed)",
+    "clear_map": "",
+    "heal": "",
+    "snapshot": "camera: front | wrist -> JPEG bytes",
+}
+
+
+class Commands(Protocol):
+    """How a console acts on a robot. Each returns None when accepted, else the refusal."""
+
+    def send(self, command: str, /, **args: Any) -> str | None: ...
+
+    def snapshot(self, camera: str) -> bytes | None: ...
+
+
+@dataclass
+class PotView:
+    id: str
+    x: float
+    y: float
+    status: str = "pending"
+    """pending | active | inspected | failed | skipped."""
+    tag: int | None = None
+    flower: str | None = None
+    blooms: int = 0
+    anomalies: list[str] = field(default_factory=list)
+
+
+@dataclass
+class GridView:
+    """An occupancy grid as the console holds it: int8 -1 unknown / 0..100, [iy, ix]."""
+
+    data: np.ndarray
+    resolution: float
+    origin_x: float
+    origin_y: float
+
+
+@dataclass
+class RobotView:
+    robot: str = ""
+    t: float = 0.0
+    """Runtime time of the newest telemetry."""
+    pose: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    mux_source: str = "idle"
+    estop_engaged: bool = False
+    estop_latched: bool = False
+    battery_voltage: float = float("nan")
+    battery_percentage: float = float("nan")
+    battery_low: bool = False
+    controllers: dict[str, str] = field(default_factory=dict)
+    nav_state: str = "idle"
+    nav_reason: str = ""
+    goal: tuple[float, float, float] | None = None
+    plan: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    """(N, 2) map-frame points of the current global plan."""
+    mission_state: str = "idle"
+    """idle | running | paused | estop | done."""
+    mission_name: str = ""
+    mission_step: str = ""
+    mission_outcome: str = ""
+    tree: str = ""
+    """py_trees' unicode tree with statuses."""
+    pots: list[PotView] = field(default_factory=list)
+    grid: GridView | None = None
+    costmap: GridView | None = None
+    """The inflated global costmap (0..100 scaled cost) for shading."""
+    scan: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    """(N, 2) map-frame points of the latest lidar scan."""
+    log: list[str] = field(default_factory=list)
+    connected: bool = False

@@ -1,0 +1,157 @@
+"""The link against a real sim runtime over real Zenoh sessions on loopback: the token rule,
+fuzzed queries that leave the runtime unharmed, a console that vanishes mid-teleop, and two
+consoles that see the same robot."""
+from __future__ import annotations
+
+import json
+import socket
+import tempfile
+import threading
+import time
+from pathlib import Path
+
+import pytest
+import zenoh
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from mission.jobs.serve import run_service, start_sim_service
+from mission.link.client import LinkClient
+from mission.link.server import LinkServer, session_config
+from mission.link.wire import cmd_key
+from mission.runtime.config import LupinConfig, with_overrides
+from sim.world import load_default_world
+
+pytestmark = pytest.mark.slow
+TOKEN = "operator-token"
+
+
+def free_endpoint() -> str:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return f"tcp/127.0.0.1:{s.getsockname()[1]}"
+
+
+def wait_for(cond, timeout=10.0):
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if cond():
+            return True
+        time.sleep(0.02)
+    return False
+
+
+@pytest.fixture(scope="module")
+def runtime():
+    """A real-time sim service with its link server, stepping on its own thread; ``probe``
+    records (runtime time, wheel owner, last manual publish time) after every control tick."""
+    config = with_overrides(LupinConfig(), {"sim": {"realtime": True}})
+    service = start_sim_service(load_default_world(), config, Path(tempfile.mkdtemp()), time.perf_counter)
+    endpoint = free_endpoint()
+    server = LinkServer(service, config.link, TOKEN, endpoint)
+    probe: list[tuple[float, str]] = []
+    service.robot.scheduler.every("test.probe", config.hw.base.control_rate,
+                                  lambda now: probe.append((round(now - 1e-4, 6), service.robot.base.source)), offset=1e-4)
+    stop = threading.Event()
+    thread = threading.Thread(target=run_service, args=(service, stop, server.close), daemon=True)
+    thread.start()
+    yield service, server, endpoint, probe
+    stop.set()
+    thread.join(20)
+
+
+def client(endpoint, token=TOKEN) -> LinkClient:
+    c = LinkClient(endpoint, "mirte", token)
+    assert wait_for(lambda: c.view().connected), "no telemetry"
+    return c
+
+
+def test_unauthorised_commands_are_refused_and_anyone_may_stop_the_robot(runtime):
+    service, server, endpoint, probe = runtime
+    stranger, operator = client(endpoint, "guess"), client(endpoint)
+    try:
+        assert "operator token" in stranger.send("mission_start")
+        assert "operator token" in stranger.send("teleop", vx=0.2)
+        assert service.run is None and stranger.send("estop", engaged=True) is None
+        assert wait_for(lambda: operator.view().estop_engaged and operator.view().mux_source == "estop")
+        assert "operator token" in stranger.send("estop", engaged=False)
+        assert operator.send("estop", engaged=False) is None
+        assert wait_for(lambda: not operator.view().estop_engaged)
+        assert "no mission is running" in operator.send("pause")
+    finally:
+        stranger.close()
+        operator.close()
+
+
+def test_two_consoles_see_the_same_robot_and_mission(runtime):
+    service, server, endpoint, probe = runtime
+    a, b = client(endpoint), client(endpoint)
+    try:
+        assert a.send("mission_start") is None
+        assert "still running" in b.send("mission_start")
+        assert wait_for(lambda: a.view().mission_state == "running" and b.view().mission_state == "running")
+        assert wait_for(lambda: a.view().grid is not None and b.view().grid is not None and len(a.view().pots) == 12)
+        assert wait_for(lambda: a.view().tree and b.view().tree)
+        va, vb = a.view(), b.view()
+        assert [p.id for p in va.pots] == [p.id for p in vb.pots] and va.mission_name == vb.mission_name
+        assert abs(va.t - vb.t) <= 0.2 and va.grid.data.shape == vb.grid.data.shape
+        assert b.send("pause") is None
+        assert wait_for(lambda: a.view().mission_state == "paused")
+        assert a.send("resume") is None
+        assert wait_for(lambda: b.view().mission_state == "running")
+        jpeg = a.snapshot("front")
+        assert jpeg is not None and jpeg[:2] == b"\xff\xd8"
+        assert b.send("mission_abort") is None
+        assert wait_for(lambda: a.view().mission_state == "done" and a.view().mission_outcome == "aborted")
+        assert (Path(service.runs) / "default-patrol-1" / "report.json").is_file()
+    finally:
+        a.close()
+        b.close()
+
+
+def test_a_console_that_vanishes_mid_teleop_stops_the_robot_within_the_mux_timeout(runtime):
+    service, server, endpoint, probe = runtime
+    c = client(endpoint)
+    for _ in range(15):  # hold the stick for ~0.75 s
+        assert c.send("teleop", vx=0.0, vy=0.1, wz=0.0) is None
+        time.sleep(0.05)
+    assert wait_for(lambda: service.robot.base.source == "manual", 2.0)
+    last = service.robot.mux._last["manual"][0] / 1e9
+    c.session.close()  # the console dies: no goodbye, no zero twist
+    assert wait_for(lambda: probe and probe[-1][0] > last + 1.0)
+    after = [(t, src) for t, src in probe if t > last]
+    stopped = next(t for t, src in after if src != "manual")
+    # the source is live until exactly its timeout after its last message; the wheels are
+    # zeroed on the first control tick after that
+    timeout, period = service.config.hw.mux.sources["manual"].timeout, 1.0 / service.config.hw.base.control_rate
+    assert timeout < stopped - last <= timeout + period + 1e-6
+    assert all(src != "manual" for t, src in after if t >= stopped)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(name=st.sampled_from(["teleop", "arm_preset", "gripper", "estop", "mission_start", "x", "snapshot"]),
+       payload=st.binary(max_size=64) | st.dictionaries(st.sampled_from(["token", "vx", "engaged", "name", "action", "mission"]),
+                                                       st.none() | st.booleans() | st.floats() | st.text(max_size=6),
+                                                       max_size=4).map(lambda d: json.dumps(d).encode()))
+def test_fuzzed_queries_are_refused_without_harming_the_runtime(runtime, name, payload):
+    service, server, endpoint, probe = runtime
+    session = fuzz_session(endpoint)
+    replies = list(session.get(cmd_key("mirte", name), payload=payload, timeout=3.0))
+    assert len(replies) == 1
+    reply = replies[0]
+    if reply.err is not None:
+        assert json.loads(reply.err.payload.to_bytes())["error"]
+    else:  # only the stop is open to anyone
+        assert name == "estop" and json.loads(payload).get("engaged") is True
+        service.estop(False)  # put it back (as the operator would)
+    before = probe[-1][0]
+    assert wait_for(lambda: probe[-1][0] > before)  # the control loop still beats
+
+
+_sessions: dict[str, zenoh.Session] = {}
+
+
+def fuzz_session(endpoint: str) -> zenoh.Session:
+    if endpoint not in _sessions:
+        _sessions[endpoint] = zenoh.open(session_config("connect", endpoint))
+    return _sessions[endpoint]
