@@ -1,0 +1,158 @@
+"""Link benchmarks: the operator link end to end on loopback, against a real-time sim runtime.
+
+``link.estop``: a console's soft e-stop to all-zero wheel duty at the simulated motors, wall
+time, while the robot is driven by the console's teleop (each trial: drive 0.5 s, wait a random
+part of the 100 ms control beat so every phase is sampled, press, wait, release). ``link.bytes``: payload bytes per second on the link at idle and while a patrol maps
+the greenhouse. ``link.jitter``: the base controller's tick-to-tick wall interval, p95 deviation
+from its 100 ms beat, without and with a console attached and reading.
+"""
+from __future__ import annotations
+
+import socket
+import tempfile
+import threading
+import time
+from contextlib import contextmanager
+from pathlib import Path
+
+import numpy as np
+
+from mission.bench import Sample, benchmark
+from mission.jobs.serve import run_service, start_sim_service
+from mission.link.client import LinkClient
+from mission.link.server import LinkServer
+from mission.runtime.config import LupinConfig, with_overrides
+from sim.world import load_default_world
+
+TOKEN = "bench"
+ESTOP_TRIALS = 30
+
+
+def _endpoint() -> str:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return f"tcp/127.0.0.1:{s.getsockname()[1]}"
+
+
+@contextmanager
+def live_runtime(config: LupinConfig):
+    """A real-time sim service and its link server on a thread of their own."""
+    config = with_overrides(config, {"sim": {"realtime": True}})
+    with tempfile.TemporaryDirectory() as runs:
+        service = start_sim_service(load_default_world(), config, Path(runs), time.perf_counter)
+        endpoint = _endpoint()
+        server = LinkServer(service, config.link, TOKEN, endpoint)
+        stop = threading.Event()
+        thread = threading.Thread(target=run_service, args=(service, stop, server.close), daemon=True)
+        thread.start()
+        try:
+            yield service, server, endpoint
+        finally:
+            stop.set()
+            thread.join(30)
+
+
+def _wait(cond, timeout: float) -> bool:
+    end = time.perf_counter() + timeout
+    while time.perf_counter() < end:
+        if cond():
+            return True
+        time.sleep(0.002)
+    return False
+
+
+@benchmark("link.estop")
+def estop(config: LupinConfig) -> Sample:
+    with live_runtime(config) as (service, server, endpoint):
+        stopped: list[float] = []
+        armed = threading.Event()
+
+        def on_duties(t: float, duties: np.ndarray) -> None:
+            if armed.is_set() and not duties.any():
+                stopped.append(time.perf_counter())
+                armed.clear()
+
+        service.robot.hal.wheels.listeners.append(on_duties)
+        console = LinkClient(endpoint, config.link.robot, TOKEN)
+        times, rng = [], np.random.default_rng(0)
+        try:
+            _wait(lambda: console.view().connected, 10)
+            for _ in range(ESTOP_TRIALS):
+                end = time.perf_counter() + 0.5
+                while time.perf_counter() < end:
+                    console.send("teleop", vx=0.0, vy=0.0, wz=0.4)
+                    time.sleep(0.05)
+                if not service.robot.base.last_duties.any():
+                    continue  # not driving: not a trial
+                time.sleep(rng.uniform(0.0, 1.0 / config.hw.base.control_rate))  # any phase of the control beat
+                stopped.clear()
+                armed.set()
+                t0 = time.perf_counter()
+                console.send("estop", engaged=True)
+                if _wait(lambda: bool(stopped), 2.0):
+                    times.append((stopped[0] - t0) * 1000.0)
+                console.send("estop", engaged=False)
+                time.sleep(0.3)
+        finally:
+            console.close()
+    return Sample(times, {"trials": len(times)})
+
+
+@benchmark("link.bytes")
+def link_bytes(config: LupinConfig) -> Sample:
+    window = 10.0
+    with live_runtime(config) as (service, server, endpoint):
+        console = LinkClient(endpoint, config.link.robot, TOKEN)
+        try:
+            _wait(lambda: console.view().connected, 10)
+            time.sleep(2.0)
+            idle = _rate(server, window)
+            console.send("mission_start")
+            time.sleep(3.0)
+            mapping = _rate(server, window)
+            by_topic = {k.rsplit("/", 1)[-1]: v for k, v in server.outbox.bytes.items()}
+        finally:
+            console.close()
+    return Sample([idle[1] * 1000.0, mapping[1] * 1000.0], {
+        "idle_bps": round(idle[0]), "mapping_bps": round(mapping[0]), "window_s": window,
+        "dropped": server.outbox.dropped, "total_bytes_by_topic": by_topic})
+
+
+def _rate(server: LinkServer, window: float) -> tuple[float, float]:
+    b0, t0 = sum(server.outbox.bytes.values()), time.perf_counter()
+    time.sleep(window)
+    dt = time.perf_counter() - t0
+    return (sum(server.outbox.bytes.values()) - b0) / dt, dt
+
+
+@benchmark("link.jitter")
+def jitter(config: LupinConfig) -> Sample:
+    window = 10.0
+    with live_runtime(config) as (service, server, endpoint):
+        ticks: list[float] = []
+        service.robot.hal.wheels.listeners.append(lambda t, d: ticks.append(time.perf_counter()))
+        time.sleep(2.0)
+        ticks.clear()
+        time.sleep(window)
+        without = _p95_dev(ticks, config)
+        consoles = [LinkClient(endpoint, config.link.robot, TOKEN) for _ in range(2)]
+        try:
+            _wait(lambda: all(c.view().connected for c in consoles), 10)
+            ticks.clear()
+            end = time.perf_counter() + window
+            while time.perf_counter() < end:  # consoles reading at 10 Hz, as the console app does
+                for c in consoles:
+                    c.view()
+                time.sleep(0.1)
+            attached = _p95_dev(ticks, config)
+        finally:
+            for c in consoles:
+                c.close()
+    return Sample([without, attached], {"without_console_p95_ms": round(without, 2),
+                                        "with_console_p95_ms": round(attached, 2), "window_s": window})
+
+
+def _p95_dev(ticks: list[float], config: LupinConfig) -> float:
+    period = 1.0 / config.hw.base.control_rate
+    dev = np.abs(np.diff(np.asarray(ticks)) - period) * 1000.0
+    return float(np.percentile(dev, 95)) if dev.size else float("nan")
