@@ -72,6 +72,7 @@ def patrol(
     backend: Backend = typer.Option(Backend.sim, "--backend", help="sim (MuJoCo greenhouse) or hw (the robot)."),
     realtime: bool = typer.Option(False, "--realtime", help="Run the sim at wall-clock pace instead of as fast as possible."),
     seed: Optional[int] = typer.Option(None, "--seed", help="Sim seed (overrides config)."),
+    record: bool = typer.Option(False, "--record", help="Also record the run for Foxglove: run.mcap beside the report."),
 ) -> None:
     """Run a scripted patrol mission to its end and write the report."""
     from mission.jobs.patrol import run_to_end, start_hw_patrol, start_sim_patrol
@@ -94,6 +95,14 @@ def patrol(
     check_report(report)  # every input checked; only now does anything start
     run = (start_hw_patrol(m, config, report, time.perf_counter) if backend is Backend.hw
            else start_sim_patrol(w, m, config, report, time.perf_counter, script))
+    if record:
+        from mission.record.mcap_file import record_patrol
+
+        try:
+            record_patrol(run, report.parent / "run.mcap")  # finished when run_to_end closes the run
+        except BaseException:
+            run.close()
+            raise
     progress = Progress(len(m.pots)) if sys.stdout.isatty() else None
     previous = signal.signal(signal.SIGTERM, _interrupt)  # a service stop aborts like Ctrl-C
     try:

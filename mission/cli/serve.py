@@ -33,6 +33,8 @@ def serve(
     listen: Optional[str] = typer.Option(None, "--listen", help="Zenoh endpoint to listen on, e.g. tcp/0.0.0.0:7447 (default: link.listen)."),
     runs: Path = typer.Option(DEFAULT_RUNS, "--runs", help="Each patrol's report goes to RUNS/<mission>-<k>/."),
     fast: bool = typer.Option(False, "--fast", help="Sim only: run as fast as the machine allows instead of real time."),
+    foxglove: Optional[int] = typer.Option(None, "--foxglove", is_flag=False, flag_value=8765, min=0, max=65535,
+                                           help="Also serve the robot live to Foxglove on this WebSocket port (default 8765)."),
 ) -> None:
     """Run the robot runtime as a service that consoles attach to."""
     from mission.jobs.serve import run_service, start_hw_service, start_sim_service
@@ -57,10 +59,26 @@ def serve(
     logging.getLogger().setLevel(min(logging.getLogger().level, logging.INFO))
     print(f"lupin serve: robot {config.link.robot!r} on {server.endpoint}"
           f"{'' if config.link.token else f'; operator token {token}'}", flush=True)
+    on_close = server.close
+    if foxglove is not None:
+        from mission.record.live import serve_foxglove
+
+        try:
+            live = serve_foxglove(service, foxglove)
+        except Exception as exc:
+            server.close()
+            service.close()
+            raise InputError(f"--foxglove {foxglove}: cannot serve there: {exc}") from None
+        service.on_run.append(lambda run: live.channels.follow(run.tree if run is not None else None))
+        print(f"lupin serve: Foxglove on ws://127.0.0.1:{live.port}", flush=True)
+
+        def on_close() -> None:
+            live.stop()
+            server.close()
     stop = threading.Event()
     previous = {s: signal.signal(s, lambda *_: stop.set()) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
-        run_service(service, stop, server.close)
+        run_service(service, stop, on_close)
     finally:
         for s, handler in previous.items():
             signal.signal(s, handler)

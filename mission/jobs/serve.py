@@ -60,6 +60,8 @@ class Service:
     outcome: str = ""
     """The last patrol's outcome ('' before any)."""
     cameras: dict[str, CameraPipeline] = field(default_factory=dict)
+    on_run: list[Callable[[PatrolRun | None], None]] = field(default_factory=list)
+    """Told of every patrol that starts, and None when it ends (the Foxglove channels follow)."""
     _count: int = 0
 
     def __post_init__(self) -> None:
@@ -78,6 +80,8 @@ class Service:
     def _end(self, outcome: str, reason: str = "") -> None:
         run, self.run = self.run, None
         self.outcome = run.finish(outcome, reason)["outcome"]
+        for listener in self.on_run:
+            listener(None)
         log.info("patrol %s: %s (report %s)", run.tree.mission.name, self.outcome, run.report.path)
 
     def close(self) -> None:
@@ -115,6 +119,8 @@ class Service:
         report = self.runs / f"{m.name}-{self._count}" / "report.json"
         self.run = start_patrol(self.robot, self.nav, m, self.config, self.perception, report, self.wall_now,
                                 lambda: None, self.climate, self.truth_error)
+        for listener in self.on_run:
+            listener(self.run)
         log.info("patrol %s started (%d pots)", m.name, len(m.pots))
 
     def mission_abort(self) -> None:

@@ -20,6 +20,7 @@ MuJoCo, EGL and numba threads do not survive a fork) and independent of the call
 from __future__ import annotations
 
 import json
+import signal
 import time
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
@@ -83,6 +84,9 @@ LAUNCH = ["-c", "import sys; from nav.slam.worker import main; main(sys.argv[1:]
 
 
 def main(argv: list[str]) -> None:
+    # Ctrl-C in a terminal reaches the whole process group: the runtime decides when SLAM stops
+    # (it kills this worker on close or on a map reset), so the worker must not die mid-run.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     fd, config = int(argv[0]), json.loads(argv[1])
     mount = tuple(config.pop("lidar_mount"))
     serve(Connection(fd), config, mount)
