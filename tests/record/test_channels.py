@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from hw.interfaces import LidarScan
-from mission.record.channels import (GRID_BEAT, PLAN_BEAT, RATE, TOPICS, PatrolChannels,
-                                     matrix_quaternion, optical_rotation, pot_statuses, uniform_scan)
+from mission.record.channels import GRID_BEAT, PLAN_BEAT, RATE, TOPICS, PatrolChannels, pot_statuses
+from mission.record.messages import matrix_quaternion, optical_rotation, uniform_scan
 from mission.record.mcap_file import McapRecording
 from tests.record.fixtures import fake_parts, read_mcap, seconds
 
