@@ -28,6 +28,7 @@ from mission.cli.map import map_app
 from mission.cli.mission import mission_app
 from mission.cli.patrol import patrol
 from mission.cli.scenario import scenario_app
+from mission.cli.console import console
 from mission.cli.serve import serve
 from mission.cli.sim import run_config, sim_app
 
@@ -48,6 +49,7 @@ app.command("detect")(detect)
 app.command("heal")(heal)
 app.command("patrol")(patrol)
 app.command("serve")(serve)
+app.command("console")(console)
 
 
 @app.callback()
@@ -72,9 +74,25 @@ def bench(
     bench_mod.run(names or [], as_json=as_json, config=run_config(ctx))
 
 
+OPTIONAL_VALUES = {"--foxglove": "8765"}
+"""Options whose value may be left out (spec/cli.md ``--foxglove [PORT]``) and the value they
+then take; typer has no such options, so the command line is completed before parsing."""
+
+
+def complete_optional_values(argv: list[str]) -> list[str]:
+    out = []
+    for i, arg in enumerate(argv):
+        out.append(arg)
+        nxt = argv[i + 1] if i + 1 < len(argv) else None
+        if arg in OPTIONAL_VALUES and (nxt is None or nxt.startswith("-")):
+            out.append(OPTIONAL_VALUES[arg])
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     """Console-script entry: run the app and turn user errors into one line + exit 2."""
     command = typer.main.get_command(app)
+    argv = complete_optional_values(sys.argv[1:] if argv is None else list(argv))
     try:
         result = command.main(args=argv, prog_name="lupin", standalone_mode=False)
     except cx.NoArgsIsHelpError as exc:

@@ -33,8 +33,9 @@ def serve(
     listen: Optional[str] = typer.Option(None, "--listen", help="Zenoh endpoint to listen on, e.g. tcp/0.0.0.0:7447 (default: link.listen)."),
     runs: Path = typer.Option(DEFAULT_RUNS, "--runs", help="Each patrol's report goes to RUNS/<mission>-<k>/."),
     fast: bool = typer.Option(False, "--fast", help="Sim only: run as fast as the machine allows instead of real time."),
-    foxglove: Optional[int] = typer.Option(None, "--foxglove", is_flag=False, flag_value=8765, min=0, max=65535,
-                                           help="Also serve the robot live to Foxglove on this WebSocket port (default 8765)."),
+    foxglove: Optional[int] = typer.Option(None, "--foxglove", min=0, max=65535,
+                                           help="Also serve the robot live to Foxglove on this WebSocket port (8765 when "
+                                                "given without one; 0: any free port)."),
 ) -> None:
     """Run the robot runtime as a service that consoles attach to."""
     from mission.jobs.serve import run_service, start_hw_service, start_sim_service

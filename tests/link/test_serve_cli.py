@@ -49,3 +49,11 @@ def test_bad_options_are_exit_2(capsys, args, words):
     assert main(["serve", *args]) == 2
     err = capsys.readouterr().err
     assert words in err and "Traceback" not in err
+
+
+def test_foxglove_port_is_optional_on_the_command_line():
+    from mission.cli import complete_optional_values
+
+    assert complete_optional_values(["serve", "--foxglove"]) == ["serve", "--foxglove", "8765"]
+    assert complete_optional_values(["serve", "--foxglove", "--listen", "x"]) == ["serve", "--foxglove", "8765", "--listen", "x"]
+    assert complete_optional_values(["serve", "--foxglove", "9000"]) == ["serve", "--foxglove", "9000"]
