@@ -8,7 +8,6 @@ from its 100 ms beat, without and with a console attached and reading.
 """
 from __future__ import annotations
 
-import socket
 import tempfile
 import threading
 import time
@@ -20,18 +19,12 @@ import numpy as np
 from mission.bench import Sample, benchmark
 from mission.jobs.serve import run_service, start_sim_service
 from mission.link.client import LinkClient
-from mission.link.server import LinkServer
+from mission.link.server import LinkServer, free_endpoint
 from mission.runtime.config import LupinConfig, with_overrides
 from sim.world import load_default_world
 
 TOKEN = "bench"
 ESTOP_TRIALS = 30
-
-
-def _endpoint() -> str:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return f"tcp/127.0.0.1:{s.getsockname()[1]}"
 
 
 @contextmanager
@@ -40,7 +33,7 @@ def live_runtime(config: LupinConfig):
     config = with_overrides(config, {"sim": {"realtime": True}})
     with tempfile.TemporaryDirectory() as runs:
         service = start_sim_service(load_default_world(), config, Path(runs), time.perf_counter)
-        endpoint = _endpoint()
+        endpoint = free_endpoint()
         server = LinkServer(service, config.link, TOKEN, endpoint)
         stop = threading.Event()
         thread = threading.Thread(target=run_service, args=(service, stop, server.close), daemon=True)

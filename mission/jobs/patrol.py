@@ -17,7 +17,6 @@ import numpy as np
 from py_trees.common import Status
 
 from hw.atomic_file import write_atomic, write_png
-from hw.backend import HwBackend
 from hw.odometry import Pose2D
 from mission.jobs.events import EventPlayer
 from mission.jobs.navigate import NavigateRun, start_navigate
@@ -27,8 +26,9 @@ from mission.patrol.report import PatrolReport, pose_error
 from mission.patrol.run_picture import PotMark, draw_run
 from mission.patrol.tree import PatrolTree
 from mission.runtime.config import LupinConfig, save_config
-from mission.runtime.navigation import attach_navigation, final_map
-from mission.runtime.robot import Robot, build_robot
+from mission.runtime.navigation import final_map
+from mission.runtime.hw_runtime import start_hw_runtime
+from mission.runtime.robot import Robot
 from nav.map_io import save_map
 from nav.navigator import Navigator
 from nav.occupancy import OccupancyMap
@@ -183,20 +183,8 @@ def start_hw_patrol(mission: Mission, config: LupinConfig, report_path: Path,
                     wall_now: Callable[[], float]) -> PatrolRun:
     """The patrol on the robot: its devices (a missing one is a clear error before anything
     moves), the wall clock, no climate source, nothing to judge against."""
-    backend = HwBackend(config.hw)
-    try:
-        robot = build_robot(config, backend.hal)
-        robot.start()
-        nav = attach_navigation(robot)
-    except BaseException:
-        backend.close()
-        raise
-
-    def close() -> None:
-        robot.close()
-        backend.close()
-
-    return start_patrol(robot, nav, mission, config, config.perception, report_path, wall_now, close)
+    rt = start_hw_runtime(config)
+    return start_patrol(rt.robot, rt.nav, mission, config, config.perception, report_path, wall_now, rt.close)
 
 
 def run_to_end(run: PatrolRun, on_step: Callable[[PatrolRun], None] = lambda r: None,

@@ -18,7 +18,6 @@ from typing import Callable
 from arm.controller import ArmUnavailable
 from arm.limits import GRIPPER_CLOSED_DEG, GRIPPER_OPEN_DEG
 from arm.presets import UnknownPreset
-from hw.backend import HwBackend
 from hw.errors import InputError
 from hw.interfaces import Twist
 from hw.odometry import Pose2D
@@ -30,7 +29,8 @@ from mission.patrol.report import pose_error
 from mission.runtime.config import LupinConfig
 from mission.runtime.heal import heal_controllers
 from mission.runtime.navigation import attach_navigation, clear_map
-from mission.runtime.robot import Robot, build_robot
+from mission.runtime.hw_runtime import start_hw_runtime
+from mission.runtime.robot import Robot
 from mission.runtime.sim_runtime import start_sim_runtime
 from nav.frames import compose, inverse
 from nav.navigator import Navigator
@@ -179,19 +179,13 @@ def run_service(service: Service, stop: threading.Event, on_close: Callable[[], 
 def start_hw_service(config: LupinConfig, runs: Path, wall_now: Callable[[], float]) -> Service:
     """The service on the robot's devices (a missing one is a clear error before anything
     moves). There is no world to patrol by default: ``mission_start`` needs a mission."""
-    backend = HwBackend(config.hw)
-    try:
-        robot = build_robot(config, backend.hal)
-        robot.start()
-        nav = attach_navigation(robot)
-    except BaseException:
-        backend.close()
-        raise
+    rt = start_hw_runtime(config)
 
     def no_default() -> Mission:
         raise CommandRefused("mission_start: the robot has no built-in mission; send one (spec/mission.md)")
 
-    return Service(robot, nav, config, config.perception, Path(runs), wall_now, no_default, close_backend=backend.close)
+    return Service(rt.robot, rt.nav, config, config.perception, Path(runs), wall_now, no_default,
+                   close_backend=rt.backend.close)
 
 
 def start_sim_service(world: World, config: LupinConfig, runs: Path, wall_now: Callable[[], float]) -> Service:

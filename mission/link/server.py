@@ -13,6 +13,7 @@ from __future__ import annotations
 import logging
 import queue
 import re
+import socket
 import threading
 from dataclasses import dataclass, field
 
@@ -39,6 +40,13 @@ def check_endpoint(endpoint: str, option: str) -> str:
     if not ENDPOINT.match(endpoint):
         raise InputError(f"{option} {endpoint}: not a Zenoh endpoint (expected e.g. tcp/127.0.0.1:7447)")
     return endpoint
+
+
+def free_endpoint() -> str:
+    """A loopback TCP endpoint on a port free right now (a child service, a test, a bench)."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return f"tcp/127.0.0.1:{s.getsockname()[1]}"
 
 
 def session_config(mode: str, endpoint: str) -> zenoh.Config:

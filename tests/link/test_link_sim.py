@@ -4,7 +4,6 @@ consoles that see the same robot."""
 from __future__ import annotations
 
 import json
-import socket
 import tempfile
 import threading
 import time
@@ -17,19 +16,13 @@ from hypothesis import strategies as st
 
 from mission.jobs.serve import run_service, start_sim_service
 from mission.link.client import LinkClient
-from mission.link.server import LinkServer, session_config
+from mission.link.server import LinkServer, free_endpoint, session_config
 from mission.link.wire import cmd_key
 from mission.runtime.config import LupinConfig, with_overrides
 from sim.world import load_default_world
 
 pytestmark = pytest.mark.slow
 TOKEN = "operator-token"
-
-
-def free_endpoint() -> str:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return f"tcp/127.0.0.1:{s.getsockname()[1]}"
 
 
 def wait_for(cond, timeout=10.0):

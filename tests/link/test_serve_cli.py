@@ -12,7 +12,8 @@ import pytest
 
 from mission.cli import main
 from mission.link.client import LinkClient
-from tests.link.test_link_sim import free_endpoint, wait_for
+from mission.link.server import free_endpoint
+from tests.link.test_link_sim import wait_for
 
 
 @pytest.mark.slow

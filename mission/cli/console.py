@@ -1,0 +1,87 @@
+"""`lupin console`: the operator console (Textual) on a robot's link.
+
+``--connect ENDPOINT`` attaches to a running ``lupin serve``; ``--sim`` starts one (a child
+process running the simulated greenhouse in real time, on a free loopback port, with a fresh
+token) and attaches to it: the one-command demo. Closing the console never stops the robot's
+mission; with ``--sim`` the child service is stopped with the console (SIGTERM: a running
+patrol is finished ``aborted``).
+"""
+from __future__ import annotations
+
+import os
+import secrets
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from hw.errors import InputError
+from mission.cli.sim import run_config
+from mission.link.server import free_endpoint
+
+def console(
+    ctx: typer.Context,
+    sim: bool = typer.Option(False, "--sim", help="Start a simulated robot (lupin serve) for the console."),
+    world: Optional[Path] = typer.Option(None, "--world", help="With --sim: the world file (default: the built-in greenhouse)."),
+    connect: Optional[str] = typer.Option(None, "--connect", help="Endpoint of a running lupin serve, e.g. tcp/192.168.1.20:7447."),
+    token: Optional[str] = typer.Option(None, "--token", help="Operator token (default: link.token, LUPIN_LINK__TOKEN)."),
+) -> None:
+    """The operator console."""
+    from mission.link.client import LinkClient
+    from mission.link.server import check_endpoint
+    from tui.app import make_app
+
+    config = run_config(ctx)
+    if sim == (connect is not None):
+        raise InputError("lupin console: give exactly one of --sim or --connect ENDPOINT")
+    if world is not None and not sim:
+        raise InputError("lupin console: --world goes with --sim")
+    child = None
+    if sim:
+        child, endpoint, token = start_child_service(world)
+    else:
+        endpoint = check_endpoint(connect, "--connect")
+        token = token if token is not None else config.link.token
+    client = LinkClient(endpoint, config.link.robot, token)
+    try:
+        make_app(client.view, client).run()
+    finally:
+        client.close()
+        if child is not None:
+            stop_child(child)
+
+
+def start_child_service(world: Path | None) -> tuple[subprocess.Popen, str, str]:
+    """``lupin serve`` as a child on a free loopback port with a fresh token; returns once it
+    listens (its first line), else InputError with what it said."""
+    endpoint, token = free_endpoint(), secrets.token_urlsafe(12)
+    lupin = str(Path(sys.executable).parent / "lupin")
+    args = [lupin, "serve", "--listen", endpoint] + (["--world", str(world)] if world is not None else [])
+    env = {**os.environ, "LUPIN_LINK__TOKEN": token}
+    # its log goes to a file, never a pipe nobody drains (a full pipe would stall the robot)
+    log = tempfile.NamedTemporaryFile("w+", prefix="lupin-serve-", suffix=".log", delete=False)
+    child = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=log, env=env, text=True)
+    line = child.stdout.readline()  # "lupin serve: robot ... on ENDPOINT" once it listens
+    if endpoint not in line:
+        stop_child(child)
+        log.seek(0)
+        err = log.read().strip().splitlines()
+        raise InputError(f"lupin console --sim: the sim service did not start: {err[-1] if err else line.strip()}")
+    return child, endpoint, token
+
+
+def stop_child(child: subprocess.Popen) -> None:
+    if child.poll() is None:
+        child.send_signal(signal.SIGTERM)
+        try:
+            child.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            child.kill()
+    deadline = time.monotonic() + 1.0
+    while child.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.05)

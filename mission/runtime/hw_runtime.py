@@ -1,0 +1,37 @@
+"""A runtime on the real robot: its devices behind the HAL, the services and navigation on them.
+
+The hardware twin of ``mission.runtime.sim_runtime``: every device is opened first (a missing
+one is one ``InputError`` naming it, before anything moves), then the services are scheduled
+and navigation attached. ``close`` shuts the services down, then releases the devices.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from hw.backend import HwBackend
+from mission.runtime.config import LupinConfig
+from mission.runtime.navigation import attach_navigation
+from mission.runtime.robot import Robot, build_robot
+from nav.navigator import Navigator
+
+
+@dataclass
+class HwRuntime:
+    backend: HwBackend
+    robot: Robot
+    nav: Navigator
+
+    def close(self) -> None:
+        self.robot.close()
+        self.backend.close()
+
+
+def start_hw_runtime(config: LupinConfig) -> HwRuntime:
+    backend = HwBackend(config.hw)
+    try:
+        robot = build_robot(config, backend.hal)
+        robot.start()
+        return HwRuntime(backend, robot, attach_navigation(robot))
+    except BaseException:
+        backend.close()
+        raise
