@@ -149,3 +149,46 @@ def _p95_dev(ticks: list[float], config: LupinConfig) -> float:
     period = 1.0 / config.hw.base.control_rate
     dev = np.abs(np.diff(np.asarray(ticks)) - period) * 1000.0
     return float(np.percentile(dev, 95)) if dev.size else float("nan")
+
+
+@benchmark("link.redraw")
+def redraw(config: LupinConfig) -> Sample:
+    """The console's full redraw (every panel from a new view, then Textual's render of the
+    screen) with a 400 x 400 map and costmap, a plan, 12 pots and a scan, at 160 x 48."""
+    import asyncio
+
+    from mission.link.view import GridView, PotView, RobotView
+    from tui.app import make_app
+
+    rng = np.random.default_rng(0)
+    occ = np.where(rng.random((400, 400)) < 0.1, 100, 0).astype(np.int8)
+    occ[:40] = -1
+    view = RobotView(robot="mirte", connected=True, pose=(5.0, 5.0, 0.0), grid=GridView(occ, 0.05, -5.0, -5.0),
+                     costmap=GridView((rng.random((400, 400)) * 100).astype(np.int8), 0.05, -5.0, -5.0),
+                     plan=np.column_stack([np.linspace(0, 8, 60), np.sin(np.linspace(0, 6, 60))]),
+                     pots=[PotView(f"P{i:02d}", 1.0 + i % 4, 1.0 + i // 4, "pending") for i in range(12)],
+                     scan=rng.random((250, 2)) * 6.0, tree="\n".join(f"--> step {i} [*]" for i in range(60)),
+                     mission_state="running")
+
+    class Null:
+        def send(self, command, /, **args):
+            return None
+
+        def snapshot(self, camera):
+            return None
+
+    times: list[float] = []
+
+    async def go() -> None:
+        app = make_app(lambda: view, Null())
+        async with app.run_test(size=(160, 48)) as pilot:
+            for i in range(60):
+                view.pose = (5.0 + 0.01 * i, 5.0, 0.1 * i)
+                t0 = time.perf_counter()
+                app.redraw()
+                await pilot.pause()
+                times.append((time.perf_counter() - t0) * 1000.0)
+
+    asyncio.run(go())
+    ms = float(np.median(times[5:]))
+    return Sample(times[5:], {"hz": round(1000.0 / ms, 1), "map_cells": 400 * 400, "terminal": "160x48"})

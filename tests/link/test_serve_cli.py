@@ -58,3 +58,15 @@ def test_foxglove_port_is_optional_on_the_command_line():
     assert complete_optional_values(["serve", "--foxglove"]) == ["serve", "--foxglove", "8765"]
     assert complete_optional_values(["serve", "--foxglove", "--listen", "x"]) == ["serve", "--foxglove", "8765", "--listen", "x"]
     assert complete_optional_values(["serve", "--foxglove", "9000"]) == ["serve", "--foxglove", "9000"]
+
+
+@pytest.mark.parametrize("args, words", [
+    ([], "exactly one of --sim or --connect"),
+    (["--sim", "--connect", "tcp/127.0.0.1:7447"], "exactly one of"),
+    (["--connect", "tcp/127.0.0.1:7447", "--world", "w.yaml"], "--world goes with --sim"),
+    (["--connect", "127.0.0.1"], "not a Zenoh endpoint"),
+])
+def test_console_bad_options_are_exit_2(capsys, args, words):
+    assert main(["console", *args]) == 2
+    err = capsys.readouterr().err
+    assert words in err and "Traceback" not in err
