@@ -1,0 +1,68 @@
+"""The console's bindings against a real sim runtime over the link: each key under Pilot, and
+what the robot did about it (read from the runtime itself)."""
+from __future__ import annotations
+
+import asyncio
+import time
+
+import pytest
+
+from arm.limits import GRIPPER_CLOSED_DEG, GRIPPER_OPEN_DEG, gripper_deg_to_rad
+from arm.presets import preset
+from mission.link.client import LinkClient
+from tests.link.test_link_sim import TOKEN, runtime  # noqa: F401  (runtime: the fixture)
+from tui.app import ARM_PRESETS, make_app
+
+pytestmark = pytest.mark.slow
+
+
+def press(endpoint, keys, then=lambda: True, timeout=10.0):
+    """Press ``keys`` in a console attached to the runtime; wait (in the app) until ``then()``."""
+    client = LinkClient(endpoint, "mirte", TOKEN)
+
+    async def go():
+        app = make_app(client.view, client)
+        async with app.run_test(size=(160, 48)) as pilot:
+            end = time.monotonic() + 10
+            while not client.view().connected and time.monotonic() < end:
+                await pilot.pause(0.05)
+            for k in keys:
+                await pilot.press(k)
+            await app.workers.wait_for_complete()
+            end = time.monotonic() + timeout
+            while not then() and time.monotonic() < end:
+                await pilot.pause(0.05)
+            return then()
+
+    try:
+        return asyncio.run(go())
+    finally:
+        client.close()
+
+
+def test_every_binding_moves_the_sim_robot(runtime):
+    service, server, endpoint, probe = runtime
+    robot = service.robot
+    assert press(endpoint, ["left"] * 3, lambda: robot.base.source == "manual" and robot.base.command.vy > 0)
+    assert press(endpoint, ["q"], lambda: robot.base.command.wz > 0)
+    assert press(endpoint, ["space"], lambda: robot.estop.engaged() and robot.base.source == "estop")
+    assert press(endpoint, ["space"], lambda: not robot.estop.engaged())
+    assert press(endpoint, ["m"], lambda: service.run is not None and service.run.tree.current_step() != "")
+    assert press(endpoint, ["p"], lambda: service.run.tree.holds.paused)
+    assert press(endpoint, ["r"], lambda: not service.run.tree.holds.paused)
+    assert press(endpoint, ["space", "space"], lambda: service.run.tree.holds.latched and not robot.estop.engaged())
+    assert press(endpoint, ["r"], lambda: not service.run.tree.holds.latched)
+    slam = service.nav.localisation
+    spawned = slam.spawned
+    assert press(endpoint, ["c", "n"], lambda: True) and slam.spawned == spawned  # asked, declined
+    assert press(endpoint, ["c", "y"], lambda: slam.spawned == spawned + 1, timeout=5)  # the map reset: SLAM respawned
+    # arm and gripper: the patrol must not be moving the arm, so abort it first (through the link)
+    client = LinkClient(endpoint, "mirte", TOKEN)
+    try:
+        assert client.send("mission_abort") is None
+    finally:
+        client.close()
+    for i, name in enumerate(ARM_PRESETS):
+        assert press(endpoint, [str(i + 1)], lambda: robot.arm.at(preset(name), tol=0.05), timeout=15), name
+    assert press(endpoint, ["o"], lambda: robot.arm.gripper.goal == gripper_deg_to_rad(GRIPPER_OPEN_DEG))
+    assert press(endpoint, ["g"], lambda: robot.arm.gripper.goal == gripper_deg_to_rad(GRIPPER_CLOSED_DEG))
