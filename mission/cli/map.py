@@ -58,15 +58,23 @@ def save(
     output: Path = typer.Option(..., "-o", "--output", help="NAME.yaml to write (NAME.pgm beside it)."),
     world: Optional[Path] = typer.Option(None, "--world", help="World file to map (default: the built-in greenhouse)."),
     seed: Optional[int] = typer.Option(None, "--seed", help="Sim seed (overrides config)."),
+    connect: Optional[str] = typer.Option(None, "--connect", help="Save the SLAM map of a running lupin serve at this endpoint instead."),
 ) -> None:
     """Map the simulated greenhouse with SLAM (a survey: every pot's approach pose, then home)
-    and save the map; its frame is the robot's start pose, as a patrol's."""
+    and save the map; its frame is the robot's start pose, as a patrol's. With --connect, save
+    the map a running runtime holds now (as its link sends it)."""
     from mission.jobs.survey import map_world
     from nav.map_io import save_map
 
     _yaml_output(output)
+    if connect is not None and (world is not None or seed is not None):
+        raise InputError("lupin map save --connect: --world and --seed are for mapping the sim here")
     if not output.parent.exists():
         output.parent.mkdir(parents=True)
+    if connect is not None:
+        m = map_over_link(connect, run_config(ctx).link.robot)
+        print(f"{save_map(m.cropped(), output)}: {summary(m.cropped())}")
+        return
     config = run_config(ctx) if seed is None else with_seed(run_config(ctx), seed)
     mapped = map_world(world_or_default(world), config)
     path = save_map(mapped.occupancy.cropped(), output)
@@ -76,3 +84,30 @@ def save(
     print(f"{path}: {summary(mapped.occupancy.cropped())}")
     if failed:
         raise typer.Exit(1)
+
+
+LINK_MAP_WAIT = 15.0
+"""Seconds to wait for the map over the link: a full map frame comes at least every 10 s."""
+
+
+def map_over_link(endpoint: str, robot: str):
+    """The SLAM map a running runtime publishes, as an ``OccupancyMap`` (reading telemetry needs
+    no token)."""
+    import time
+
+    from mission.link.client import LinkClient
+    from mission.link.server import check_endpoint
+    from nav.occupancy import OccupancyMap
+
+    client = LinkClient(check_endpoint(endpoint, "--connect"), robot)
+    try:
+        end = time.monotonic() + LINK_MAP_WAIT
+        while time.monotonic() < end:
+            g = client.view().grid
+            if g is not None:
+                return OccupancyMap(g.data.copy(), g.resolution, g.origin_x, g.origin_y)
+            time.sleep(0.1)
+    finally:
+        client.close()
+    raise InputError(f"--connect {endpoint}: no map from robot {robot!r} within {LINK_MAP_WAIT:g} s "
+                     "(is lupin serve running there, and mapping?)")

@@ -76,6 +76,7 @@ class LinkClient:
             b = m["battery"]
             v.battery_voltage = b["voltage"] if b["voltage"] is not None else float("nan")
             v.battery_percentage = b["percentage"] if b["percentage"] is not None else float("nan")
+            v.battery_current = b["current"] if b.get("current") is not None else float("nan")
             v.battery_low = b["low"]
         elif topic == "nav":
             v.nav_state, v.nav_reason = m["state"], m["reason"]

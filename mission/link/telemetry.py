@@ -56,11 +56,13 @@ class Telemetry:
         robot, pose, tw = s.robot, s.nav.map_pose(), s.robot.base.odometry.twist
         power = robot.power
         volts = power.reading.voltage if power.reading is not None else float("nan")
+        amps = power.reading.current if power.reading is not None else float("nan")
         msg = {"t": round(now, 3), "pose": [_r(pose.x), _r(pose.y), _r(pose.yaw)],
                "velocity": [_r(tw.vx), _r(tw.vy), _r(tw.wz)], "mux": robot.base.source,
                "estop": {"engaged": robot.estop.engaged(),
                          "latched": bool(s.run is not None and s.run.tree.holds.latched)},
-               "battery": {"voltage": _r(volts, 2), "percentage": _r(power.state.percentage, 1), "low": power.state.low}}
+               "battery": {"voltage": _r(volts, 2), "current": _r(amps, 2), "percentage": _r(power.state.percentage, 1),
+                           "low": power.state.low}}
         self._post("state", lambda: dumps(msg))
 
     def slow(self, now: float) -> None:

@@ -73,6 +73,8 @@ class RobotView:
     estop_latched: bool = False
     battery_voltage: float = float("nan")
     battery_percentage: float = float("nan")
+    battery_current: float = float("nan")
+    """Pack current, A (the power monitor's)."""
     battery_low: bool = False
     controllers: dict[str, str] = field(default_factory=dict)
     nav_state: str = "idle"

@@ -105,6 +105,7 @@ def test_two_consoles_see_the_same_robot_and_mission(runtime):
 def test_a_console_that_vanishes_mid_teleop_stops_the_robot_within_the_mux_timeout(runtime):
     service, server, endpoint, probe = runtime
     c = client(endpoint)
+    assert c.send("mission_start") is None
     for _ in range(15):  # hold the stick for ~0.75 s
         assert c.send("teleop", vx=0.0, vy=0.1, wz=0.0) is None
         time.sleep(0.05)
@@ -119,6 +120,23 @@ def test_a_console_that_vanishes_mid_teleop_stops_the_robot_within_the_mux_timeo
     timeout, period = service.config.hw.mux.sources["manual"].timeout, 1.0 / service.config.hw.base.control_rate
     assert timeout < stopped - last <= timeout + period + 1e-6
     assert all(src != "manual" for t, src in after if t >= stopped)
+    # the mission never stopped: autonomy has the wheels back
+    assert service.run is not None and wait_for(lambda: service.robot.base.source == "auto")
+    c2 = client(endpoint)
+    try:
+        assert c2.send("mission_abort") is None
+    finally:
+        c2.close()
+
+
+def test_map_save_over_the_link(runtime, tmp_path):
+    from mission.cli import main
+    from nav.map_io import load_map
+
+    service, server, endpoint, probe = runtime
+    assert main(["map", "save", "--connect", endpoint, "-o", str(tmp_path / "live.yaml")]) == 0
+    saved, held = load_map(tmp_path / "live.yaml"), service.nav.localisation.occupancy
+    assert saved.resolution == held.resolution and (saved.occupancy == 100).sum() > 100
 
 
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])

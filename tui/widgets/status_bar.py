@@ -18,7 +18,8 @@ def status_text(v: RobotView) -> Text:
         t.append("  ")
     if math.isfinite(v.battery_percentage):
         style = "bold white on red" if v.battery_low else "green"
-        t.append(f"battery {v.battery_percentage:.0f}% {v.battery_voltage:.2f} V{' LOW' if v.battery_low else ''}", style)
+        amps = f" {v.battery_current:.1f} A" if math.isfinite(v.battery_current) else ""
+        t.append(f"battery {v.battery_percentage:.0f}% {v.battery_voltage:.2f} V{amps}{' LOW' if v.battery_low else ''}", style)
     else:
         t.append("battery ?", "dim")
     t.append("  ")
