@@ -17,6 +17,7 @@ from hypothesis import strategies as st
 from mission.jobs.serve import run_service, start_sim_service
 from mission.link.client import LinkClient
 from mission.link.server import LinkServer, free_endpoint, session_config
+from mission.link.telemetry import TOPICS
 from mission.link.wire import cmd_key
 from mission.runtime.config import LupinConfig, with_overrides
 from sim.world import load_default_world
@@ -85,6 +86,8 @@ def test_two_consoles_see_the_same_robot_and_mission(runtime):
         assert wait_for(lambda: a.view().mission_state == "running" and b.view().mission_state == "running")
         assert wait_for(lambda: a.view().grid is not None and b.view().grid is not None and len(a.view().pots) == 12)
         assert wait_for(lambda: a.view().tree and b.view().tree)
+        assert wait_for(lambda: {"state", "nav", "mission", "tree", "pots", "status", "scan", "map", "costmap"} <= set(a.received))
+        assert set(a.received) <= set(TOPICS)  # every topic documented in mission.link.telemetry
         va, vb = a.view(), b.view()
         assert [p.id for p in va.pots] == [p.id for p in vb.pots] and va.mission_name == vb.mission_name
         assert abs(va.t - vb.t) <= 0.2 and va.grid.data.shape == vb.grid.data.shape

@@ -7,7 +7,6 @@ import socket
 import struct
 import time
 
-import pytest
 from websockets.sync import client as ws_client
 
 from mission.record.live import serve_foxglove
