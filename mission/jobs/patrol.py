@@ -77,6 +77,13 @@ class PatrolRun:
     def done(self) -> bool:
         return self.tree.root.status in (Status.SUCCESS, Status.FAILURE)
 
+    def led_state(self) -> str:
+        """What the status strip shows of this patrol (``hw.leds.pick_state``'s mission)."""
+        if self.done:
+            return "done" if self.outcome() == "completed" else "failed"
+        holds = self.tree.holds
+        return "paused" if holds.paused or holds.latched else "running"
+
     def outcome(self) -> str:
         if self.tree.battery_low:
             return "battery_low"
@@ -144,6 +151,7 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
     tree = PatrolTree(mission, robot, nav, cameras, report, TagReader(perception.tag), config.patrol)
     report.estop_events = tree.holds.estop_events
     run = PatrolRun(robot, nav, tree, report, close)
+    robot.mission_state = run.led_state
 
     def trace(now: float) -> None:
         pose = nav.map_pose()

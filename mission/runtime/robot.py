@@ -53,6 +53,9 @@ class Robot:
     power: PowerWatch
     closers: list[Callable[[], None]] = field(default_factory=list)
     """What ``close`` shuts down (worker processes, devices), in order."""
+    mission_state: Callable[[], str | None] = lambda: None
+    """The mission's state for the status strip ('running', 'paused', 'done', 'failed' or None:
+    no mission); a patrol sets it, the robot only reads it."""
 
     def close(self) -> None:
         for close in self.closers:
@@ -61,7 +64,8 @@ class Robot:
 
     def _led_tick(self, now: float) -> None:
         c = self.base.command
-        self.leds.show(pick_state(estop=self.estop.engaged(), battery_low=self.power.state.low, driving=max(abs(c.vx), abs(c.vy), abs(c.wz)) > 1e-3))
+        self.leds.show(pick_state(estop=self.estop.engaged(), battery_low=self.power.state.low,
+                                  mission=self.mission_state(), driving=max(abs(c.vx), abs(c.vy), abs(c.wz)) > 1e-3))
 
     def start(self) -> None:
         hw = self.config.hw

@@ -55,6 +55,7 @@ def test_every_action_reaches_the_stack_at_its_time(tmp_path):
         assert robot.base.source == "auto"  # the 5.5 control tick ran before the press ...
         sched.run_until(t0 + 5.65)
         assert robot.base.source == "estop" and not robot.base.last_duties.any()  # ... the next one stops the wheels
+        assert robot.leds.state == "estop"  # the strip's 5 Hz beat
         sched.run_until(t0 + 6.3)
         assert run.tree.holds.latched  # the resume at 6.2 was refused: the soft stop still held
         sched.run_until(t0 + 6.9)
@@ -64,6 +65,7 @@ def test_every_action_reaches_the_stack_at_its_time(tmp_path):
 
         sched.run_until(t0 + 9.2)
         assert run.tree.holds.paused and run.tree.current_step().startswith("paused")
+        assert robot.leds.state == "mission_paused"  # the status strip says the operator must act
         sched.run_until(t0 + 10.6)
         assert not run.tree.holds.paused
 
