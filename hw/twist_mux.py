@@ -64,6 +64,11 @@ class TwistMux:
             return
         self._last[source] = (_ns(now), twist)
 
+    def last(self, source: str) -> tuple[float, Twist] | None:
+        """The last twist ``source`` published and when (None: never), live or not."""
+        entry = self._last.get(source)
+        return None if entry is None else (entry[0] / _NS, entry[1])
+
     def is_live(self, source: str, now: float) -> bool:
         last = self._last.get(source)
         if last is None:

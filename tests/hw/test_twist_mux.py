@@ -117,3 +117,15 @@ def test_non_finite_twists_are_dropped_and_the_source_times_out():
     mux.publish("joy", Twist(wz=float("inf")), 0.3)
     assert mux.select(0.4) == (Twist(vx=0.2), "manual")  # the last good command, still live
     assert mux.select(0.6) == (ZERO_TWIST, "idle")  # bad messages never refreshed it
+
+
+def test_last_says_what_a_source_sent_and_when_live_or_not():
+    from hw.config import MuxConfig
+    from hw.interfaces import Twist
+    from hw.twist_mux import TwistMux
+
+    mux = TwistMux(MuxConfig())
+    assert mux.last("manual") is None
+    mux.publish("manual", Twist(0.1, 0.2, 0.3), 4.1)
+    assert mux.last("manual") == (4.1, Twist(0.1, 0.2, 0.3))
+    assert not mux.is_live("manual", 10.0) and mux.last("manual")[1].vy == 0.2
