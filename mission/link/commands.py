@@ -82,7 +82,8 @@ def parse_command(name: str, payload: bytes, token: str) -> _Args:
         args = schema.model_validate(data)
     except ValidationError as exc:
         e = exc.errors()[0]
-        where = ".".join(str(p) for p in e["loc"]) or "payload"
+        # a key is whatever the client sent: escaped and cut short, so the reply stays one line
+        where = ".".join(str(p) for p in e["loc"]).encode("unicode_escape").decode()[:40] or "payload"
         raise CommandRefused(f"{name}: {where}: {e['msg']}") from None
     open_to_all = name == "estop" and args.engaged
     if not open_to_all and not token:

@@ -43,6 +43,7 @@ def test_engaging_the_soft_estop_needs_no_token_everything_else_does():
     ("snapshot", b'{"camera": "depth", "token": "s3cret"}', "snapshot: camera:"),
     ("teleop", b"\xff\xfe", "not a JSON object"),
     ("teleop", b"{" * 100000, "payload of"),
+    ("clear_map", b'{"\\n": null}', "clear_map: \\n: Extra inputs"),  # found by hypothesis: one line, always
 ])
 def test_malformed_commands_are_refused_with_the_reason(name, payload, words):
     with pytest.raises(CommandRefused) as exc:
