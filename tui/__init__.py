@@ -1,1 +1,13 @@
-"""tui: filled in by later issues."""
+"""The operator console (Textual): ``tui.app.make_app(view_source, commands)``.
+
+It draws only from a ``mission.link.view.RobotView`` and acts only through a ``Commands``
+object, so it runs the same over the Zenoh link, against an in-process runtime, or in a test.
+
+- ``app.py``: the app: polls the view, sends commands on worker threads, handles the keys;
+- ``keys.py``: the key table (teleop speeds, arm presets, cameras);
+- ``messages.py``: what the workers tell the app (a refusal, a snapshot);
+- ``screens/``: the main screen (the layout) and the clear-map question;
+- ``widgets/``: one module per screen area: status bar, map, mission tree and pots, camera, log;
+- ``halfblocks.py``: pictures as '▀' characters (the map and the camera);
+- ``console.tcss``: the stylesheet.
+"""

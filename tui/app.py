@@ -1,134 +1,149 @@
 """The operator console: one Textual app over a ``RobotView`` and a ``Commands`` object.
 
-``make_app(view_source, commands)`` is the one factory (the CLI and the tests use it): the app
-polls ``view_source()`` at ``POLL_HZ`` and redraws, and acts only through ``commands`` (the
-link client, or a test's fake). Commands go out on worker threads, so a slow link never freezes
-the screen; a refused one is shown in the log and as a notification.
+``make_app(view_source, commands)`` is the one factory (the CLI, the benchmarks and the tests
+use it). The app polls ``view_source()`` at ``POLL_HZ`` and hands the view to the main screen,
+whose panels redraw what changed; it acts only through ``commands`` (the link client, or a
+test's fake). The keys are in :mod:`tui.keys`.
 
-Keys (the footer shows them): arrows drive on the ``manual`` source (up/down forward and back,
-left/right strafe), q / e turn; terminals have no key-up, so each press and auto-repeat sends a
-twist and letting go sends nothing: the mux times the source out after 0.5 s. space = soft
-e-stop (again: release), r = resume, m = start the mission, p = pause, c = clear the map (asks
-first), 1-6 = arm presets, o / g = gripper open / close, f / w = front / wrist snapshot.
+Nothing here waits on the robot. Commands go out on worker threads and come back as typed
+messages (:mod:`tui.messages`): a refusal is shown in the log and as a notification. Teleop has
+one worker and a one-slot mailbox: a twist pressed while the previous one is still on its way
+replaces any twist still waiting, so a slow link never builds a backlog that would keep the
+robot driving after the key is let go, and a run of the same teleop refusal is told once.
 """
 from __future__ import annotations
 
-from typing import Callable
+import threading
+from typing import Any, Callable
 
 from textual import work
-from textual.app import App, ComposeResult
-from textual.binding import Binding
-from textual.containers import Horizontal, Vertical
-from textual.widgets import Footer
+from textual.app import App
 
-from arm.presets import PRESETS
 from mission.link.view import Commands, RobotView
-from tui.confirm import Confirm
-from tui.widgets.camera_panel import CameraPanel
-from tui.widgets.log_panel import LogPanel
-from tui.widgets.map_panel import MapPanel
-from tui.widgets.mission_panel import MissionTree, PotsTable
-from tui.widgets.status_bar import StatusBar
+from tui.keys import BINDINGS, DRIVE
+from tui.messages import CommandRefused, SnapshotTaken
+from tui.screens.confirm import Confirm
+from tui.screens.main import MainScreen
 
 POLL_HZ = 10.0
-SPEED, TURN = 0.2, 0.5
-"""Teleop speeds: m/s (forward, strafe) and rad/s."""
-DRIVE = {"up": (SPEED, 0.0, 0.0), "down": (-SPEED, 0.0, 0.0), "left": (0.0, SPEED, 0.0),
-         "right": (0.0, -SPEED, 0.0), "q": (0.0, 0.0, TURN), "e": (0.0, 0.0, -TURN)}
-ARM_PRESETS = list(PRESETS)[:6]
+
+
+class Latest:
+    """A one-slot mailbox between the UI and one worker: ``put`` replaces what waits and says
+    whether a worker must be started; ``take`` returns the waiting item, or None and marks the
+    worker gone (both under one lock, so no item is ever stranded)."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._item: Any = None
+        self._draining = False
+
+    def put(self, item: Any) -> bool:
+        with self._lock:
+            self._item = item
+            start, self._draining = not self._draining, True
+            return start
+
+    def take(self) -> Any:
+        with self._lock:
+            item, self._item = self._item, None
+            if item is None:
+                self._draining = False
+            return item
 
 
 class ConsoleApp(App):
     CSS_PATH = "console.tcss"
     TITLE = "Lupin console"
-    BINDINGS = [
-        *[Binding(k, f"drive('{k}')", label, show=show, priority=True) for k, label, show in (
-            ("up", "fwd", True), ("down", "back", False), ("left", "strafe", True), ("right", "strafe", False),
-            ("q", "turn", True), ("e", "turn", False))],
-        Binding("space", "estop", "e-stop"),
-        Binding("r", "send('resume')", "resume"),
-        Binding("m", "send('mission_start')", "mission"),
-        Binding("p", "send('pause')", "pause"),
-        Binding("c", "clear_map", "clear map"),
-        *[Binding(str(i + 1), f"preset('{name}')", name, show=i == 0) for i, name in enumerate(ARM_PRESETS)],
-        Binding("o", "gripper('open')", "open"),
-        Binding("g", "gripper('close')", "grip"),
-        Binding("f", "snapshot('front')", "front cam"),
-        Binding("w", "snapshot('wrist')", "wrist cam", show=False),
-        Binding("ctrl+q", "quit", "quit"),
-    ]
+    BINDINGS = BINDINGS
 
     def __init__(self, view_source: Callable[[], RobotView], commands: Commands):
         super().__init__()
         self.view_source, self.commands = view_source, commands
-        self.view = view_source()
+        self.view = RobotView()
+        self.main = MainScreen()
+        self._twists = Latest()
+        self._teleop_refusal: str | None = None
 
-    def compose(self) -> ComposeResult:
-        yield StatusBar(id="status")
-        with Horizontal(id="main"):
-            yield MapPanel(id="map")
-            with Vertical(id="side"):
-                yield MissionTree(id="tree")
-                yield PotsTable(id="pots")
-        with Horizontal(id="bottom"):
-            yield CameraPanel("no snapshot yet: f = front, w = wrist", id="camera")
-            yield LogPanel(id="log", max_lines=500, wrap=False)
-        yield Footer()
+    def get_default_screen(self) -> MainScreen:
+        return self.main
 
     def on_mount(self) -> None:
-        # Held, not queried on each redraw: a question on top (clear map?) is another screen.
-        self.panels = [self.query_one(w) for w in (StatusBar, MapPanel, MissionTree, PotsTable, LogPanel)]
-        self.camera, self.log_panel = self.query_one(CameraPanel), self.query_one(LogPanel)
-        for widget, title in ((self.panels[1], "map"), (self.camera, "camera"), (self.log_panel, "log")):
-            widget.border_title = title
         self.redraw()
         self.set_interval(1.0 / POLL_HZ, self.redraw)
 
     def redraw(self) -> None:
-        """Pull the latest view and show it everywhere."""
-        self.view = v = self.view_source()
-        for widget in self.panels:
-            widget.show(v)
+        """Pull the latest view and show it (also under the clear-map question)."""
+        self.view = self.view_source()
+        self.main.show(self.view)
 
-    # --- actions -------------------------------------------------------------------------
+    # --- talking to the robot (worker threads) ---------------------------------------------
+    def _deliver(self, command: str, args: dict[str, Any]) -> str | None:
+        try:
+            return self.commands.send(command, **args)
+        except Exception as exc:  # a broken link must not take the console (and its e-stop) down
+            return f"{command}: {type(exc).__name__}: {exc}"
+
     @work(thread=True, group="commands")
-    def command(self, command: str, /, **args) -> None:
-        refused = self.commands.send(command, **args)
+    def send(self, command: str, /, **args: Any) -> None:
+        refused = self._deliver(command, args)
         if refused:
-            self.call_from_thread(self.refused, refused)
+            self.post_message(CommandRefused(command, refused))
 
-    def refused(self, reason: str) -> None:
-        self.log_panel.say(reason)
-        self.notify(reason, severity="error", timeout=4)
+    @work(thread=True, group="teleop")
+    def _drive(self) -> None:
+        while (twist := self._twists.take()) is not None:
+            vx, vy, wz = twist
+            refused = self._deliver("teleop", {"vx": vx, "vy": vy, "wz": wz})
+            if refused != self._teleop_refusal:
+                self._teleop_refusal = refused
+                if refused:
+                    self.post_message(CommandRefused("teleop", refused))
 
-    def action_send(self, name: str) -> None:
-        self.command(name)
+    @work(thread=True, group="snapshots", exclusive=True)
+    def _snapshot(self, camera: str) -> None:
+        try:
+            jpeg = self.commands.snapshot(camera)
+        except Exception as exc:
+            self.post_message(CommandRefused("snapshot", f"snapshot: {type(exc).__name__}: {exc}"))
+            jpeg = None
+        self.post_message(SnapshotTaken(camera, jpeg))
 
+    def on_command_refused(self, message: CommandRefused) -> None:
+        self.main.log_panel.say(message.reason)
+        self.notify(message.reason, title="refused", severity="error", timeout=4)
+
+    def on_snapshot_taken(self, message: SnapshotTaken) -> None:
+        self.main.camera_panel.show_jpeg(message.camera, message.jpeg)
+
+    # --- actions (tui.keys binds them) ------------------------------------------------------
     def action_drive(self, key: str) -> None:
-        vx, vy, wz = DRIVE[key]
-        self.command("teleop", vx=vx, vy=vy, wz=wz)
+        if self._twists.put(DRIVE[key]):
+            self._drive()
 
-    def action_estop(self) -> None:
-        self.command("estop", engaged=not self.view.estop_engaged)
+    def action_estop(self, engage: bool) -> None:
+        self.send("estop", engaged=engage)
+
+    def action_send(self, command: str) -> None:
+        self.send(command)
 
     def action_preset(self, name: str) -> None:
-        self.command("arm_preset", name=name)
+        self.send("arm_preset", name=name)
 
     def action_gripper(self, action: str) -> None:
-        self.command("gripper", action=action)
+        self.send("gripper", action=action)
+
+    def action_snapshot(self, camera: str) -> None:
+        self._snapshot(camera)
 
     def action_clear_map(self) -> None:
         def answered(yes: bool | None) -> None:
             if yes:
-                self.command("clear_map")
+                self.send("clear_map")
 
         self.push_screen(Confirm("Clear the map? SLAM starts over from here."), answered)
 
-    @work(thread=True, group="snapshots", exclusive=True)
-    def action_snapshot(self, camera: str) -> None:
-        jpeg = self.commands.snapshot(camera)
-        self.call_from_thread(self.camera.show_jpeg, camera, jpeg)
-
 
 def make_app(view_source: Callable[[], RobotView], commands: Commands) -> ConsoleApp:
+    """The console over ``view_source()`` (polled, never waited on) acting through ``commands``."""
     return ConsoleApp(view_source, commands)

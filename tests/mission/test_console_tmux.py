@@ -59,7 +59,8 @@ def test_console_sim_as_a_person_uses_it(tmp_path):
         wait_screen(session, "running", "P01", timeout=30)
         tmux("send-keys", "-t", session, "Space")  # soft e-stop
         wait_screen(session, "E-STOP ENGAGED", "wheels: estop", timeout=10)
-        tmux("send-keys", "-t", session, "Space")  # release: the mission stays held until resumed
+        tmux("send-keys", "-t", session, "Space")  # a second press never releases
+        tmux("send-keys", "-t", session, "u")  # release: the mission stays held until resumed
         wait_screen(session, "e-stop released: r to resume", "mission: estop", timeout=10)
         tmux("send-keys", "-t", session, "r")
         wait_screen(session, "e-stop clear", "mission: running", timeout=10)

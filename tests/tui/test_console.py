@@ -1,121 +1,205 @@
-"""The console under Pilot: every key binding sends exactly its command, the clear-map question,
-refusals shown; and the map renderer draws things where they are."""
+"""The console's behaviour beyond single keys: refusals shown, a slow or broken link, the
+camera, and each panel redrawing what changed (and only that)."""
 from __future__ import annotations
 
 import asyncio
+import threading
 
-import numpy as np
-import pytest
+from mission.link.view import RobotView
+from tests.tui.fakes import SIZE, Recorder, console, idle_view, patrolling_view
+from tui.app import make_app
+from tui.widgets.mission_panel import running_line, tree_text
+from tui.widgets.status_bar import status_text
 
-from tests.tui.fakes import Recorder, estopped_view, idle_view, patrolling_view
-from tui.app import ARM_PRESETS, make_app
-from tui.widgets.camera_panel import CameraPanel
-from tui.widgets.log_panel import LogPanel
-from tui.widgets.map_panel import Canvas, render_map
-
-SIZE = (160, 50)
+UP = ("teleop", {"vx": 0.2, "vy": 0.0, "wz": 0.0})
 
 
-def run(view, keys, refuse=None):
-    """Press ``keys`` in a console showing ``view``; returns (recorder, app) after every
-    command has gone out."""
-    rec = Recorder(refuse)
+def log_text(app) -> str:
+    return "\n".join(line.text for line in app.main.log_panel.lines)
+
+
+# --- refusals and the link --------------------------------------------------------------------
+def test_a_refused_command_is_shown_in_the_log_and_as_a_notification():
+    notes = []
+    rec, app = console(idle_view, ["p"], Recorder(refuse={"pause": "pause: no mission is running"}), notifications=notes)
+    assert rec.sent == [("pause", {})]
+    assert "[console] pause: no mission is running" in log_text(app)
+    assert notes == ["pause: no mission is running"]
+
+
+def test_a_run_of_the_same_teleop_refusal_is_told_once():
+    notes = []
+    rec, app = console(idle_view, ["up"] * 3, Recorder(refuse={"teleop": "teleop: e-stop engaged"}), notifications=notes)
+    assert rec.sent == [UP] * 3
+    assert notes == ["teleop: e-stop engaged"] and log_text(app).count("e-stop engaged") == 1
+
+
+def test_a_link_that_raises_is_shown_and_the_console_goes_on():
+    notes = []
+    rec, app = console(idle_view, ["r", "m"], Recorder(refuse={"resume": ConnectionError("link down")}), notifications=notes)
+    assert rec.sent == [("resume", {}), ("mission_start", {})]
+    assert notes == ["resume: ConnectionError: link down"]
+
+
+def test_a_slow_link_never_builds_a_backlog_of_twists():
+    """Twists pressed while one is on its way replace each other: only the newest goes next,
+    so letting go of the key stops the robot however slow the link."""
+    hold = threading.Event()
+    rec = Recorder(hold=hold)
+    busy = []
 
     async def go():
-        app = make_app(lambda: view, rec)
+        app = make_app(idle_view, rec)
         async with app.run_test(size=SIZE) as pilot:
-            for k in keys:
-                if k == "wait":
-                    await pilot.pause(0.35)  # a few redraws
-                else:
-                    await pilot.press(k)
-            await pilot.pause()
+            await pilot.press("up")
+            for _ in range(1000):  # until the first twist is on its way (and stuck)
+                if rec.entered.is_set():
+                    break
+                await pilot.pause(0.01)
+            for key in ("left", "right", "q", "e"):
+                await pilot.press(key)
+            busy.append(sum(1 for w in app.workers if w.group == "teleop" and not w.is_finished))
+            hold.set()
             await app.workers.wait_for_complete()
             await pilot.pause()
-            return app, app.query_one(LogPanel).lines[:], str(app.query_one(CameraPanel).render())
 
-    app, log, camera = asyncio.run(go())
-    return rec, log, camera
-
-
-@pytest.mark.parametrize("key, command, args", [
-    ("up", "teleop", {"vx": 0.2, "vy": 0.0, "wz": 0.0}),
-    ("down", "teleop", {"vx": -0.2, "vy": 0.0, "wz": 0.0}),
-    ("left", "teleop", {"vx": 0.0, "vy": 0.2, "wz": 0.0}),  # strafe: the mecanum base
-    ("right", "teleop", {"vx": 0.0, "vy": -0.2, "wz": 0.0}),
-    ("q", "teleop", {"vx": 0.0, "vy": 0.0, "wz": 0.5}),
-    ("e", "teleop", {"vx": 0.0, "vy": 0.0, "wz": -0.5}),
-    ("r", "resume", {}),
-    ("m", "mission_start", {}),
-    ("p", "pause", {}),
-    ("o", "gripper", {"action": "open"}),
-    ("g", "gripper", {"action": "close"}),
-    *[(str(i + 1), "arm_preset", {"name": name}) for i, name in enumerate(ARM_PRESETS)],
-])
-def test_each_key_sends_its_command(key, command, args):
-    rec, _, _ = run(patrolling_view(), [key])
-    assert rec.sent == [(command, args)]
+    asyncio.run(go())
+    assert busy == [1]
+    assert rec.sent == [UP, ("teleop", {"vx": 0.0, "vy": 0.0, "wz": -0.5})]
 
 
-def test_holding_a_drive_key_sends_a_twist_per_repeat():
-    rec, _, _ = run(patrolling_view(), ["left"] * 5)
-    assert rec.sent == [("teleop", {"vx": 0.0, "vy": 0.2, "wz": 0.0})] * 5
+# --- camera ------------------------------------------------------------------------------------
+class NoFrames(Recorder):
+    def snapshot(self, camera):
+        self.snapshots.append(camera)
+        return None
 
 
-def test_space_engages_the_soft_estop_and_releases_it_when_engaged():
-    assert run(patrolling_view(), ["space"])[0].sent == [("estop", {"engaged": True})]
-    assert run(estopped_view(), ["space"])[0].sent == [("estop", {"engaged": False})]
-
-
-def test_clear_map_asks_first():
-    assert run(patrolling_view(), ["c", "n"])[0].sent == []
-    assert run(patrolling_view(), ["c", "wait", "n"])[0].sent == []  # the screen keeps redrawing under the question
-    assert run(patrolling_view(), ["c", "escape"])[0].sent == []
-    assert run(patrolling_view(), ["c", "y"])[0].sent == [("clear_map", {})]
-
-
-def test_a_refused_command_is_shown_with_its_reason():
-    rec, log, _ = run(idle_view(), ["p"], refuse={"pause": "pause: no mission is running"})
-    assert rec.sent == [("pause", {})]
-    assert any("no mission is running" in line.text for line in log)
+def camera_text(app) -> str:
+    return str(app.main.camera_panel.render())
 
 
 def test_snapshot_keys_fetch_and_draw_the_camera():
-    rec, _, camera = run(idle_view(), ["f"])
-    assert rec.snapshots == ["front"] and "front camera" in camera
-    rec, _, camera = run(idle_view(), ["w"])
-    assert rec.snapshots == ["wrist"] and "wrist camera" in camera
+    shown = {}
+    rec, _ = console(idle_view, ["f", lambda app: shown.setdefault("f", camera_text(app)),
+                                 "w", lambda app: shown.setdefault("w", camera_text(app))])
+    assert rec.snapshots == ["front", "wrist"]
+    assert shown["f"].startswith("front camera\n") and "▀" in shown["f"]
+    assert shown["w"].startswith("wrist camera\n")
+    shown.clear()
+    console(idle_view, ["f", lambda app: shown.setdefault("f", camera_text(app))], NoFrames())
+    assert shown["f"] == "front: no frame"
 
 
-def test_the_map_draws_robot_plan_and_pots_where_they_are():
+# --- panels ------------------------------------------------------------------------------------
+def test_the_status_bar_says_what_matters():
+    v = idle_view()
+    text = status_text(v).plain
+    for part in ("mirte", "link ok", "e-stop clear", "battery 38% 12.60 V", "mission: idle", "nav: idle",
+                 "wheels: idle", "controllers: all active"):
+        assert part in text
+    v.connected, v.battery_low, v.battery_current = False, True, 1.25
+    v.estop_latched, v.nav_state, v.nav_reason = True, "failed", "no path"
+    v.controllers["arm_controller"] = "inactive"
+    v.mission_state, v.mission_step = "estop", "approach P03"
+    text = status_text(v).plain
+    for part in ("NO LINK", "battery 38% 12.60 V 1.2 A LOW", "e-stop released: r to resume", "nav: failed (no path)",
+                 "controllers: arm_controller inactive", "mission: estop / approach P03"):
+        assert part in text
+    v.estop_engaged = True
+    assert "E-STOP ENGAGED" in status_text(v).plain
+
+
+def test_the_status_bar_wraps_between_chips_on_a_narrow_terminal():
     v = patrolling_view()
-    strips = render_map(v, 80, 30)
-    assert len(strips) == 30 and all(strip.cell_length == 80 for strip in strips)
-    cv = Canvas(v, 80, 30)
-
-    def colour_at(x, y):
-        import tui.widgets.map_panel as mp
-
-        seen = {}
-        real = mp.half_block_rows
-        mp.half_block_rows = lambda rgb: (seen.setdefault("rgb", rgb), [])[1]
-        try:
-            render_map(v, 80, 30)
-        finally:
-            mp.half_block_rows = real
-        c, r = cv.to_pixel(x, y)
-        return tuple(int(k) for k in seen["rgb"][int(r), int(c)])
-
-    from tui.widgets.map_panel import ANOMALY, HEADING, PLAN, POT_COLOURS, ROBOT
-
-    assert colour_at(*v.pose[:2]) in (ROBOT, HEADING)
-    assert colour_at(1.0, 1.0) == POT_COLOURS["inspected"]
-    assert colour_at(2.0, 1.0) == ANOMALY  # inspected with a bug
-    assert colour_at(4.0, 1.0) == POT_COLOURS["pending"]
-    mid = (v.plan[1] + v.plan[2]) / 2
-    assert colour_at(*mid) == PLAN
+    lines = status_text(v, 60).plain.split("\n")
+    assert len(lines) > 1 and all(len(line) <= 60 for line in lines)
+    assert "\n" not in status_text(v, 400).plain
 
 
-def test_the_map_of_an_empty_view_is_still_a_picture():
-    strips = render_map(idle_view(), 40, 10)
-    assert len(strips) == 10 and not np.isnan(Canvas(idle_view(), 40, 10).scale)
+def test_the_tree_is_read_not_shown_raw_and_its_running_step_found():
+    coloured = "{-} patrol [\x1b[34m*\x1b[0m]\n    --> approach P03 [\x1b[34m*\x1b[0m]\n    --> P04 [\x1b[33m-\x1b[0m]"
+    text = tree_text(coloured)
+    assert "\x1b" not in text.plain and text.plain.splitlines()[1] == "    --> approach P03 [*]"
+    assert running_line(text.plain) == 1
+    assert running_line(patrolling_view().tree) == 6  # the deepest running line
+    assert running_line("{-} patrol [✓]") is None
+
+
+def test_the_tree_panel_follows_the_running_step():
+    v = idle_view()
+    lines = [f"    --> step {i} [✓]" for i in range(300)]
+    lines[250] = "    --> step 250 [*]"
+    v.tree = "{-} patrol [*]\n" + "\n".join(lines)
+    seen = {}
+
+    def look(app):
+        tree = app.main.mission_tree
+        seen["top"], seen["height"] = tree.scroll_y, tree.scrollable_content_region.height
+
+    console(lambda: v, [look])
+    assert seen["top"] <= 251 < seen["top"] + seen["height"]
+
+
+def test_the_pots_table_updates_cells_in_place():
+    v = patrolling_view()
+    seen = {}
+
+    def finish_p03(app):
+        seen["rows"] = app.main.pots_table.row_count
+        v.pots[2].status, v.pots[2].tag, v.pots[2].flower, v.pots[2].blooms = "inspected", 3, "pink", 2
+        app.redraw()
+
+    def look(app):
+        table = app.main.pots_table
+        seen["after"] = table.row_count
+        seen["P03"] = [str(table.get_cell("P03", c)) for c in ("status", "tag", "flower", "blooms")]
+
+    console(lambda: v, [finish_p03, look])
+    assert seen == {"rows": 6, "after": 6, "P03": ["inspected", "3", "pink", "2"]}
+
+
+def test_the_log_panel_follows_a_rolling_window():
+    """The link client keeps the last 200 lines: once full, the list stops growing but moves."""
+    v = idle_view()
+    v.log = [f"line {i}" for i in range(200)]
+
+    def roll(app):
+        v.log = v.log[3:] + ["line 200", "line 201", "line 202"]  # a new list, as the client makes
+        app.redraw()
+
+    rec, app = console(lambda: v, [roll])
+    shown = [line.text for line in app.main.log_panel.lines]
+    assert shown == [f"line {i}" for i in range(203)]
+
+
+def test_the_map_is_redrawn_only_when_what_it_shows_changed():
+    v = patrolling_view()
+    counts = []
+
+    def count(app):
+        counts.append(app.main.map_panel.renders)
+
+    def poll(app):
+        app.redraw()
+
+    def move(app):
+        v.pose = (2.1, 0.5, 0.3)
+        app.redraw()
+
+    def cells_in_place(app):  # the link applies map deltas to the same array
+        v.grid.data[50, 50] = 100
+        app.redraw()
+
+    def new_log_line(app):
+        v.log = v.log + ["  41.0 I something"]
+        app.redraw()
+
+    console(lambda: v, [count, poll, poll, count, move, count, cells_in_place, count, new_log_line, count])
+    assert counts[1] == counts[0] and counts[2] == counts[1] + 1 and counts[3] == counts[2] + 1 and counts[4] == counts[3]
+
+
+def test_a_view_with_nothing_in_it_still_draws():
+    seen = {}
+    rec, app = console(RobotView, ["up", lambda app: seen.setdefault("status", str(app.main.status_bar.render()))])
+    assert rec.sent == [UP] and "NO LINK" in seen["status"] and "battery ?" in seen["status"]

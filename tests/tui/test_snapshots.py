@@ -1,5 +1,6 @@
-"""Snapshots of the console's main states (pytest-textual-snapshot; regenerate with
-``pytest tests/tui --snapshot-update`` after a deliberate change, and look at the SVGs)."""
+"""Snapshots of the console's main states (pytest-textual-snapshot). After a deliberate change,
+regenerate with ``pytest tests/tui --snapshot-update`` and look at the SVGs before committing.
+Deterministic: fixed terminal sizes, hand-made views, nothing time-dependent on screen."""
 from __future__ import annotations
 
 from tests.tui.fakes import Recorder, estopped_view, idle_view, patrolling_view
@@ -18,3 +19,12 @@ def test_patrolling(snap_compare):
 
 def test_estopped(snap_compare):
     assert snap_compare(make_app(estopped_view, Recorder()), terminal_size=SIZE)
+
+
+def test_patrolling_on_a_small_terminal(snap_compare):
+    """100 x 40: the status bar wraps between its chips instead of losing the end."""
+    assert snap_compare(make_app(patrolling_view, Recorder()), terminal_size=(100, 40))
+
+
+def test_clear_map_question(snap_compare):
+    assert snap_compare(make_app(patrolling_view, Recorder()), press=["c"], terminal_size=SIZE)

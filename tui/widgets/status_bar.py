@@ -1,4 +1,6 @@
-"""The status bar: battery, e-stop, who drives the wheels, navigation, mission, controllers, link."""
+"""The status bar: the link, battery, e-stop, who drives the wheels, navigation, mission and
+controllers, most urgent first. Each is one chip; the chips wrap onto a second line rather than
+being cut off on a narrow terminal."""
 from __future__ import annotations
 
 import math
@@ -8,47 +10,78 @@ from textual.widgets import Static
 
 from mission.link.view import RobotView
 
+ALARM = "bold white on red"
 
-def status_text(v: RobotView) -> Text:
-    t = Text(no_wrap=True, overflow="ellipsis")
-    t.append(f" {v.robot or 'robot'} ", "bold reverse")
-    t.append("  ")
-    if not v.connected:
-        t.append(" NO LINK ", "bold white on red")
-        t.append("  ")
-    if math.isfinite(v.battery_percentage):
-        style = "bold white on red" if v.battery_low else "green"
-        amps = f" {v.battery_current:.1f} A" if math.isfinite(v.battery_current) else ""
-        t.append(f"battery {v.battery_percentage:.0f}% {v.battery_voltage:.2f} V{amps}{' LOW' if v.battery_low else ''}", style)
-    else:
-        t.append("battery ?", "dim")
-    t.append("  ")
+
+def status_chips(v: RobotView) -> list[Text]:
+    chips = [Text(f" {v.robot or 'robot'} ", "bold reverse"),
+             Text("link ok", "green") if v.connected else Text(" NO LINK ", ALARM)]
     if v.estop_engaged:
-        t.append(" E-STOP ENGAGED ", "bold white on red")
+        chips.append(Text(" E-STOP ENGAGED ", ALARM))
     elif v.estop_latched:
-        t.append(" e-stop released: r to resume ", "bold black on yellow")
+        chips.append(Text(" e-stop released: r to resume ", "bold black on yellow"))
     else:
-        t.append("e-stop clear", "green")
-    t.append(f"  wheels: {v.mux_source}")
-    nav = v.nav_state + (f" ({v.nav_reason})" if v.nav_reason and v.nav_state in ("failed", "canceled") else "")
-    t.append(f"  nav: {nav}")
-    mission = v.mission_state + (f" {v.mission_name}" if v.mission_name else "")
+        chips.append(Text("e-stop clear", "green"))
+    if math.isfinite(v.battery_percentage):
+        amps = f" {v.battery_current:.1f} A" if math.isfinite(v.battery_current) else ""
+        volts = f" {v.battery_voltage:.2f} V" if math.isfinite(v.battery_voltage) else ""
+        battery = f"battery {v.battery_percentage:.0f}%{volts}{amps}"
+        chips.append(Text(f" {battery} LOW ", ALARM) if v.battery_low else Text(battery, "green"))
+    else:
+        chips.append(Text("battery ?", "dim"))
+    mission = Text(f"mission: {v.mission_state}" + (f" {v.mission_name}" if v.mission_name else ""),
+                   "bold" if v.mission_state in ("running", "paused", "estop") else "")
     if v.mission_state == "done" and v.mission_outcome:
-        mission += f": {v.mission_outcome}"
-    t.append(f"  mission: {mission}", "bold" if v.mission_state in ("running", "paused", "estop") else "")
-    if v.mission_step and v.mission_state != "done":
-        t.append(f" / {v.mission_step}", "italic")
-    down = [name for name, state in v.controllers.items() if state != "active"]
-    t.append("  controllers: ")
+        mission.append(f": {v.mission_outcome}")
+    elif v.mission_step:
+        mission.append(f" / {v.mission_step}", "italic")
+    chips.append(mission)
+    nav = Text(f"nav: {v.nav_state}")
+    if v.nav_reason:
+        nav.append(f" ({v.nav_reason})", "bold red" if v.nav_state == "failed" else "")
+    chips.append(nav)
+    chips.append(Text(f"wheels: {v.mux_source}"))
+    down = [f"{name} {state}" for name, state in v.controllers.items() if state != "active"]
+    controllers = Text("controllers: ")
     if not v.controllers:
-        t.append("?", "dim")
+        controllers.append("?", "dim")
     elif down:
-        t.append(", ".join(f"{n} {v.controllers[n]}" for n in down), "bold red")
+        controllers.append(", ".join(down), "bold red")
     else:
-        t.append("all active", "green")
+        controllers.append("all active", "green")
+    chips.append(controllers)
+    return chips
+
+
+def status_text(v: RobotView, width: int = 0) -> Text:
+    """The chips two spaces apart, a new line where the next would pass ``width`` (0: never)."""
+    t, used = Text(no_wrap=True, overflow="ellipsis"), 0
+    for chip in status_chips(v):
+        if used:
+            if width and used + 2 + chip.cell_len > width:
+                t.append("\n")
+                used = 0
+            else:
+                t.append("  ")
+                used += 2
+        t.append_text(chip)
+        used += chip.cell_len
     return t
 
 
 class StatusBar(Static):
+    def __init__(self, **kw):
+        super().__init__(**kw)
+        self._shown: Text | None = None
+        self._view: RobotView | None = None
+
+    def on_resize(self) -> None:
+        if self._view is not None:  # re-wrap for the new width, once this layout pass is over
+            self.call_after_refresh(self.show, self._view)
+
     def show(self, view: RobotView) -> None:
-        self.update(status_text(view))
+        self._view = view
+        text = status_text(view, self.content_size.width)
+        if text != self._shown:
+            self._shown = text
+            self.update(text)
