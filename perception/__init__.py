@@ -8,7 +8,7 @@
   for anything that leaves the robot.
 - :mod:`perception.detections`: the frozen records the mission stores.
 - :mod:`perception.evaluation`: scoring against truth (the sim harness is
-  ``mission/bench/perception.py``); :mod:`perception.annotate`: drawing for ``lupin detect``.
+  ``lupin/bench/perception.py``); :mod:`perception.annotate`: drawing for ``lupin detect``.
 
 Only hw/ is imported from below (the HAL's Camera and Clock, the camera matrix).
 """

@@ -1,6 +1,6 @@
 """Scoring detectors against ground truth: confusion matrix, precision / recall, pest rates,
 tag-id accuracy and pose error. Pure functions over plain lists, so the sim harness
-(mission/bench/perception.py), the tests and a future real-photo set all score alike.
+(lupin/bench/perception.py), the tests and a future real-photo set all score alike.
 
 Truth for a frame is what the camera could see, not what the pot holds: a bloom pushed out of
 the wrist frame by approach-pose noise is truthfully ``none`` for the detector (the harness

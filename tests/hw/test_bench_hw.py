@@ -1,12 +1,12 @@
 """The hw benchmarks run and report their figures (values are machine-dependent: not asserted)."""
-from mission.bench import BENCHMARKS, summarise
+from lupin.bench import BENCHMARKS, summarise
 from mission.runtime.config import LupinConfig
-import mission.bench.hw  # noqa: F401  (registers the group)
+import lupin.bench.hw  # noqa: F401  (registers the group)
 
 
 def test_hw_benchmarks_report_their_figures(monkeypatch):
-    monkeypatch.setattr(mission.bench.hw, "RUNS", 3)
-    monkeypatch.setattr(mission.bench.hw, "TRANSACTIONS", 20)
+    monkeypatch.setattr(lupin.bench.hw, "RUNS", 3)
+    monkeypatch.setattr(lupin.bench.hw, "TRANSACTIONS", 20)
     config = LupinConfig()
     lidar = summarise("hw.lidar_parse", BENCHMARKS["hw.lidar_parse"](config))
     assert lidar["n"] == 3 and lidar["samples_per_s"] > 0

@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from mission.cli import main
+from lupin.cli import main
 from mission.runtime.config import load_config
 
 DEPLOY = Path(__file__).resolve().parents[2] / "deploy"

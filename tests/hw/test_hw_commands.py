@@ -3,7 +3,7 @@ import json
 
 import pytest
 
-import mission.cli.hw as hwc
+import lupin.cli.hw as hwc
 from hw.drivers.led_strip import decode_spi
 from hw.emulators.gpio import EmulatedLineRequest
 from hw.emulators.hiwonder_bus import EmuServo, HiwonderBusEmulator
@@ -13,7 +13,7 @@ from hw.emulators.ina226 import Ina226Twin
 from hw.emulators.mpu9250 import Ak8963Twin, Mpu9250Twin
 from hw.emulators.pca9685 import Pca9685Twin
 from hw.emulators.rplidar import RplidarEmulator
-from mission.cli import main
+from lupin.cli import main
 
 
 def run(capsys, *args):

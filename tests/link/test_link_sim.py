@@ -134,7 +134,7 @@ def test_a_console_that_vanishes_mid_teleop_stops_the_robot_within_the_mux_timeo
 
 
 def test_map_save_over_the_link(runtime, tmp_path):
-    from mission.cli import main
+    from lupin.cli import main
     from nav.map_io import load_map
 
     service, server, endpoint, probe = runtime

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from mission.cli import main
+from lupin.cli import main
 from mission.link.client import LinkClient
 from mission.link.server import free_endpoint
 from tests.link.test_link_sim import wait_for
@@ -53,7 +53,7 @@ def test_bad_options_are_exit_2(capsys, args, words):
 
 
 def test_foxglove_port_is_optional_on_the_command_line():
-    from mission.cli import complete_optional_values
+    from lupin.cli import complete_optional_values
 
     assert complete_optional_values(["serve", "--foxglove"]) == ["serve", "--foxglove", "8765"]
     assert complete_optional_values(["serve", "--foxglove", "--listen", "x"]) == ["serve", "--foxglove", "8765", "--listen", "x"]

@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from mission import bench
-from mission.cli import main
+from lupin import bench
+from lupin.cli import main
 from sim.world import load_world
 
 LUPIN = Path(sys.executable).parent / "lupin"

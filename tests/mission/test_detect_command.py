@@ -8,7 +8,7 @@ import cv2
 import numpy as np
 import pytest
 
-from mission.cli import main
+from lupin.cli import main
 from perception.config import TagConfig
 from sim.apriltag import tag_image
 

@@ -4,7 +4,7 @@ import math
 
 import yaml
 
-from mission.cli import main
+from lupin.cli import main
 from mission.runtime.config import load_config
 from mission.jobs.drive import drive
 from sim.world import dump_world, load_default_world

@@ -3,9 +3,9 @@ import pytest
 
 from arm.presets import preset
 from hw.controller_manager import ControllerState, ControllerTransitionError
-from mission.cli import main
+from lupin.cli import main
 from mission.runtime.heal import ACTIONS, boot_heal, heal_controllers
-from mission.cli.heal import sim_boot_race
+from lupin.cli.heal import sim_boot_race
 from tests.fixtures import assemble, open_floor
 
 NAMES = ("joint_state_broadcaster", "pid_wheels_controller", "mirte_master_arm_controller",

@@ -5,7 +5,7 @@ import cv2
 import numpy as np
 import pytest
 
-from mission.cli import main
+from lupin.cli import main
 from nav.map_io import load_map, save_map
 from nav.map_render import GRID, render_map
 from nav.occupancy import OccupancyMap

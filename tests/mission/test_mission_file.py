@@ -10,7 +10,7 @@ import pytest
 from hw.errors import InputError
 from hw.odometry import Pose2D
 from mission.approach import approach_pose
-from mission.cli import main
+from lupin.cli import main
 from mission.patrol.mission_file import (dump_mission, load_mission, mission_from_world, parse_mission,
                                          visit_order)
 from nav.frames import compose

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from mission.cli import main
+from lupin.cli import main
 from mission.patrol.mission_file import dump_mission, mission_from_world
 from sim.world import load_default_world
 

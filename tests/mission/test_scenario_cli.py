@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 from hw.errors import InputError
-from mission.cli import main
-from mission.cli.scenario import report_dir
+from lupin.cli import main
+from lupin.cli.scenario import report_dir
 from mission.scenario.scenario_file import load_scenario, parse_scenario
 from mission.runtime.config import LupinConfig
 

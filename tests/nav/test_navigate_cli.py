@@ -6,7 +6,7 @@ import json
 import cv2
 import pytest
 
-from mission.cli import main
+from lupin.cli import main
 
 
 def run(capsys, *argv):

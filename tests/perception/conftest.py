@@ -17,7 +17,7 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 from arm.presets import preset  # noqa: E402
-from mission.bench.perception import approach_pose, flower_truth_of, tag_truth  # noqa: E402
+from lupin.bench.perception import approach_pose, flower_truth_of, tag_truth  # noqa: E402
 from mission.runtime.config import LupinConfig  # noqa: E402
 from sim.backend import SimRobot  # noqa: E402
 from sim.generate import generate_world  # noqa: E402

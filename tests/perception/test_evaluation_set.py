@@ -10,7 +10,7 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from mission.bench.perception import evaluate, render_shots  # noqa: E402
+from lupin.bench.perception import evaluate, render_shots  # noqa: E402
 from mission.runtime.config import LupinConfig  # noqa: E402
 
 SEED, SHOTS = 1, 16

@@ -6,7 +6,7 @@ import json
 
 import pytest
 
-from mission.cli import main
+from lupin.cli import main
 from tests.mission.test_patrol_cli import short_mission
 from tests.record.fixtures import read_mcap
 from tests.record.test_channels import EXPECTED_SCHEMAS

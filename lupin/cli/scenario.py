@@ -14,7 +14,7 @@ from pathlib import Path
 
 import typer
 
-from mission.cli.sim import run_config
+from lupin.cli.sim import run_config
 
 scenario_app = typer.Typer(help="Scenario files: a simulated patrol with scripted events and the outcome it must have.",
                            no_args_is_help=True)

@@ -4,7 +4,7 @@
 ``encoders``, ``estop``, ``leds``. Serial commands take ``--port`` (and ``--baud``), I2C
 commands ``--bus``; defaults come from ``hw.devices`` in the config. Output is human-readable,
 or one JSON object with ``--json``. A wrong port, a silent device or a wrong chip id is one line
-on stderr and exit 2 (``InputError`` / ``DeviceError``, mapped in ``mission.cli.main``).
+on stderr and exit 2 (``InputError`` / ``DeviceError``, mapped in ``lupin.cli.main``).
 
 The two boundaries without a device file here, the I2C bus and the GPIO line request, are the
 module attributes ``open_i2c`` and ``gpio_request`` (tests point them at the emulators).
@@ -34,7 +34,7 @@ from hw.errors import InputError
 from hw.interfaces import WHEELS, DeviceError
 from hw.leds import PALETTE, to_wire
 from hw.wall_clock import WallClock
-from mission.cli.sim import run_config
+from lupin.cli.sim import run_config
 
 open_i2c = open_bus
 gpio_request = request_inputs

@@ -5,7 +5,7 @@ import time
 
 import numpy as np
 
-from mission.bench import Sample, benchmark
+from lupin.bench import Sample, benchmark
 from mission.runtime.config import LupinConfig, with_seed
 from mission.jobs.drive import start_drive
 from sim.backend import SimRobot

@@ -4,7 +4,7 @@ from __future__ import annotations
 import time
 
 from arm.aim import CameraAim, sample_reachable_targets
-from mission.bench import Sample, benchmark
+from lupin.bench import Sample, benchmark
 from mission.runtime.config import LupinConfig
 from mission.runtime.sim_runtime import start_sim_runtime
 from sim.world import Floor, Pose2, World

@@ -91,7 +91,7 @@ def heal(
     backend: Backend = typer.Option(Backend.sim, "--backend", help="sim (the MuJoCo greenhouse) or hw (the robot)."),
 ) -> int:
     """Heal the five controllers to active, then park the arm at home (boot one-shot)."""
-    from mission.cli.sim import run_config
+    from lupin.cli.sim import run_config
 
     if not auto_home_enabled(os.environ):
         typer.echo(f"{AUTO_HOME_ENV}=false: heal and home skipped")

@@ -20,17 +20,17 @@ except ImportError:  # pragma: no cover
 
 from hw.errors import InputError
 from hw.interfaces import DeviceError
-from mission import bench as bench_mod
-from mission.cli.detect import detect
-from mission.cli.heal import heal
-from mission.cli.hw import hw_app
-from mission.cli.map import map_app
-from mission.cli.mission import mission_app
-from mission.cli.patrol import patrol
-from mission.cli.scenario import scenario_app
-from mission.cli.console import console
-from mission.cli.serve import serve
-from mission.cli.sim import run_config, sim_app
+from lupin import bench as bench_mod
+from lupin.cli.detect import detect
+from lupin.cli.heal import heal
+from lupin.cli.hw import hw_app
+from lupin.cli.map import map_app
+from lupin.cli.mission import mission_app
+from lupin.cli.patrol import patrol
+from lupin.cli.scenario import scenario_app
+from lupin.cli.console import console
+from lupin.cli.serve import serve
+from lupin.cli.sim import run_config, sim_app
 
 app = typer.Typer(
     name="lupin",

@@ -34,7 +34,7 @@ from arm.presets import preset
 from hw.odometry import Pose2D
 from mission.approach import STANDOFF
 from mission.approach import approach_pose as ideal_approach
-from mission.bench import Sample, benchmark
+from lupin.bench import Sample, benchmark
 from mission.runtime.config import LupinConfig
 from nav.frames import compose
 from perception.evaluation import rotation_error, score_flowers, score_tags

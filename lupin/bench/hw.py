@@ -21,7 +21,7 @@ import numpy as np
 from hw.drivers.hiwonder import HiwonderBus
 from hw.drivers.rplidar_protocol import ScanParser, encode_nodes
 from hw.emulators.hiwonder_bus import HiwonderBusEmulator
-from mission.bench import Sample, benchmark
+from lupin.bench import Sample, benchmark
 from mission.runtime.config import LupinConfig
 
 C1_SAMPLES_PER_S = 5000

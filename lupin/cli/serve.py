@@ -19,8 +19,8 @@ from typing import Optional
 import typer
 
 from hw.errors import InputError
-from mission.cli.patrol import Backend
-from mission.cli.sim import run_config, world_or_default
+from lupin.cli.patrol import Backend
+from lupin.cli.sim import run_config, world_or_default
 from mission.runtime.config import with_overrides
 
 DEFAULT_RUNS = Path("lupin-runs")

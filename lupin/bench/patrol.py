@@ -14,7 +14,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from mission.bench import Sample, benchmark
+from lupin.bench import Sample, benchmark
 from mission.jobs.patrol import run_to_end, start_sim_patrol
 from mission.patrol.mission_file import mission_from_world
 from mission.runtime.config import LupinConfig, with_overrides

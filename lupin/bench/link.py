@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mission.bench import Sample, benchmark
+from lupin.bench import Sample, benchmark
 from mission.jobs.serve import run_service, start_sim_service
 from mission.link.client import LinkClient
 from mission.link.server import LinkServer, free_endpoint

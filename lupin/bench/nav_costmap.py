@@ -16,7 +16,7 @@ import cv2
 import numpy as np
 
 from hw.interfaces import LidarScan
-from mission.bench import Sample, benchmark, time_ms
+from lupin.bench import Sample, benchmark, time_ms
 from mission.runtime.config import LupinConfig
 from nav.costmap.grid import FREE, LETHAL, UNKNOWN, CostGrid
 from nav.costmap.inflation import InflationLayer

@@ -7,7 +7,7 @@ from typing import Optional
 import typer
 
 from hw.errors import InputError
-from mission.cli.sim import run_config, world_or_default
+from lupin.cli.sim import run_config, world_or_default
 from mission.runtime.config import with_seed
 
 map_app = typer.Typer(help="SLAM maps in map_server format (YAML + PGM).", no_args_is_help=True)

@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from mission.bench import Sample, benchmark, time_ms
+from lupin.bench import Sample, benchmark, time_ms
 from mission.runtime.config import LupinConfig
 from nav.costmap.layered import local_costmap
 from nav.mppi.controller import MppiController

@@ -6,7 +6,7 @@ import time
 import numpy as np
 
 from mission.jobs.approach_trials import run_world
-from mission.bench import Sample, benchmark
+from lupin.bench import Sample, benchmark
 from mission.runtime.config import LupinConfig
 
 WORLDS, POTS_PER_WORLD = 10, 5

@@ -13,7 +13,7 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-from mission.bench import Sample, benchmark
+from lupin.bench import Sample, benchmark
 from mission.runtime.config import LupinConfig
 
 SUITE = Path(__file__).resolve().parents[2] / "tests" / "scenarios"

@@ -23,7 +23,7 @@ import numpy as np
 import typer
 
 from hw.errors import InputError
-from mission.cli.sim import run_config
+from lupin.cli.sim import run_config
 from perception.annotate import draw_blooms, draw_tags
 from perception.detections import FlowerFrame, TagRead
 from perception.flower_detector import FlowerDetector

@@ -16,7 +16,7 @@ from kiss_icp.kiss_icp import KissICP
 
 from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
-from mission.bench import Sample, benchmark
+from lupin.bench import Sample, benchmark
 from mission.jobs.map_quality import map_quality
 from mission.jobs.survey import drifted, survey
 from mission.runtime.config import LupinConfig, with_seed

@@ -21,7 +21,7 @@ from typing import Optional
 import typer
 
 from hw.errors import InputError
-from mission.cli.sim import run_config
+from lupin.cli.sim import run_config
 from mission.link.server import free_endpoint
 
 def console(

@@ -19,7 +19,7 @@ from typing import Optional
 import typer
 
 from hw.errors import InputError
-from mission.cli.sim import run_config, world_or_default
+from lupin.cli.sim import run_config, world_or_default
 from mission.runtime.config import with_overrides, with_seed
 
 DEFAULT_REPORT = Path("lupin-report") / "report.json"
