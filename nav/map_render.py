@@ -1,5 +1,5 @@
 """An occupancy map as a picture a person can read: the one renderer for ``lupin map show``
-and, later, the patrol's run picture.
+and the patrol's run picture, and the path drawing the navigation picture shares.
 
 Free white, occupied black, unknown grey, north up; cells scaled up by whole pixels (nearest
 neighbour, so every cell stays a crisp square) until the short side is about 400 px (the long
@@ -13,6 +13,7 @@ import math
 import cv2
 import numpy as np
 
+from nav.grid_geometry import GridGeometry
 from nav.occupancy import OccupancyMap
 
 WHITE, BLACK, GREY = (255, 255, 255), (0, 0, 0), (160, 160, 160)
@@ -50,15 +51,23 @@ def default_scale(m: OccupancyMap) -> int:
 
 def to_pixel(m: OccupancyMap, scale: int, x: float, y: float) -> tuple[int, int]:
     """Map-frame point -> (column, row) in a ``render_map`` image."""
-    return (int(round((x - m.origin_x) / m.resolution * scale)),
-            int(round((m.height - (y - m.origin_y) / m.resolution) * scale)))
+    c, r = m.geometry.pixel_of(x, y, scale)
+    return int(round(float(c))), int(round(float(r)))
+
+
+def polyline(img: np.ndarray, geometry: GridGeometry, scale: float, xy, colour, thickness: int = 2) -> None:
+    """A path of world points (N, 2) drawn on a north-up picture of ``geometry`` at ``scale``
+    pixels per cell (anti-aliased; nothing for fewer than two points)."""
+    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+    if len(xy) > 1:
+        c, r = geometry.pixel_of(xy[:, 0], xy[:, 1], scale)
+        cv2.polylines(img, [np.column_stack([c, r]).round().astype(np.int32)], False, colour, thickness, cv2.LINE_AA)
 
 
 def _grid(img: np.ndarray, m: OccupancyMap, scale: int) -> None:
     """A 1 m grid, drawn only over free cells so walls and pots stay solid."""
     free = np.all(img == WHITE, axis=2)
-    x0, x1 = m.origin_x, m.origin_x + m.width * m.resolution
-    y0, y1 = m.origin_y, m.origin_y + m.height * m.resolution
+    x0, x1, y0, y1 = m.geometry.extent
     lines = np.zeros(img.shape[:2], bool)
     for gx in range(math.ceil(x0), math.floor(x1) + 1):
         c = to_pixel(m, scale, gx, y0)[0]

@@ -332,7 +332,7 @@ class Navigator:
         speed = self.config.navigator.backoff_speed
         if len(ix) == 0:
             return Twist(-speed, 0.0, 0.0)
-        wx, wy = grid.cell_to_world(ix, iy)
+        wx, wy = grid.geometry.centre_of(ix, iy)
         d = np.hypot(wx - odom.x, wy - odom.y)
         near = d <= d.min() + 0.15
         away = np.array([odom.x - wx[near].mean(), odom.y - wy[near].mean()])

@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nav.grid_geometry import GridGeometry
+
 UNKNOWN = -1
 FREE = 0
 OCCUPIED = 100
@@ -38,15 +40,10 @@ class OccupancyMap:
     def width(self) -> int:
         return int(self.occupancy.shape[1])
 
-    def cell_of(self, x, y) -> tuple[np.ndarray, np.ndarray]:
-        """Integer (ix, iy) of map-frame points (may fall outside the grid)."""
-        ix = np.floor((np.asarray(x) - self.origin_x) / self.resolution).astype(np.int64)
-        iy = np.floor((np.asarray(y) - self.origin_y) / self.resolution).astype(np.int64)
-        return ix, iy
-
-    def cell_centres(self, ix, iy) -> tuple[np.ndarray, np.ndarray]:
-        return (self.origin_x + (np.asarray(ix) + 0.5) * self.resolution,
-                self.origin_y + (np.asarray(iy) + 0.5) * self.resolution)
+    @property
+    def geometry(self) -> GridGeometry:
+        """Where the grid lies: world <-> cell <-> pixel (``nav.grid_geometry``)."""
+        return GridGeometry.of(self.occupancy, self.resolution, self.origin_x, self.origin_y)
 
     def occupied(self, thresh: int = 65) -> np.ndarray:
         """Boolean [iy, ix] of cells at or above ``thresh`` percent (map_server's 0.65)."""
@@ -61,6 +58,6 @@ class OccupancyMap:
         (y0, x0), (y1, x1) = known.min(axis=0), known.max(axis=0) + 1
         y0, x0 = max(0, y0 - margin), max(0, x0 - margin)
         y1, x1 = min(self.height, y1 + margin), min(self.width, x1 + margin)
+        g = self.geometry.cropped(x0, y0, x1, y1)
         return OccupancyMap(self.occupancy[y0:y1, x0:x1].copy(), self.resolution,
-                            round(self.origin_x + x0 * self.resolution, 9), round(self.origin_y + y0 * self.resolution, 9),
-                            self.origin_yaw)
+                            round(g.origin_x, 9), round(g.origin_y, 9), self.origin_yaw)

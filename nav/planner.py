@@ -66,11 +66,12 @@ class NavfnPlanner:
     def plan(self, grid: CostGrid, start_xy, goal_xy) -> np.ndarray:
         """(N, 2) world points from ``start_xy`` to the goal (or to the reachable point nearest it
         within tolerance), about one per cell. Raises ``PlanningError``."""
-        (sx,), (sy,) = (np.atleast_1d(a) for a in grid.world_to_cell(start_xy[0], start_xy[1]))
-        (gx,), (gy,) = (np.atleast_1d(a) for a in grid.world_to_cell(goal_xy[0], goal_xy[1]))
-        if not grid.inside(sx, sy):
+        geo = grid.geometry
+        (sx,), (sy,) = (np.atleast_1d(a) for a in geo.cell_of(start_xy[0], start_xy[1]))
+        (gx,), (gy,) = (np.atleast_1d(a) for a in geo.cell_of(goal_xy[0], goal_xy[1]))
+        if not geo.contains(sx, sy):
             raise PlanningError("start outside the costmap")
-        if not grid.inside(gx, gy):
+        if not geo.contains(gx, gy):
             raise PlanningError("goal outside the costmap")
         h, w = grid.data.shape
         cost = np.full((h + 2, w + 2), OBSTACLE, dtype=np.uint8)  # an impassable frame around the map
@@ -85,11 +86,11 @@ class NavfnPlanner:
             tx, ty, end = gx, gy, np.asarray(goal_xy[:2], dtype=float)
         else:
             tx, ty = self._nearest_reachable(grid, pot2[1:-1, 1:-1], goal_xy, gx, gy)
-            end = np.array(grid.cell_to_world(tx, ty), dtype=float)
+            end = np.array(geo.centre_of(tx, ty), dtype=float)
         cells = descend(pot, cost.ravel(), w + 2, float(tx + 1), float(ty + 1), float(sx + 1), float(sy + 1))
         if cells.shape[0] == 0:
             raise PlanningError("no path: the descent got stuck")  # a bug, but never crash the loop
-        xy = np.column_stack(grid.cell_to_world(cells[::-1, 0] - 1.0, cells[::-1, 1] - 1.0))
+        xy = np.column_stack(geo.centre_of(cells[::-1, 0] - 1.0, cells[::-1, 1] - 1.0))
         xy[0], xy[-1] = start_xy[:2], end
         return resample(xy, grid.resolution)
 
@@ -98,7 +99,7 @@ class NavfnPlanner:
         x0, y0 = max(gx - r, 0), max(gy - r, 0)
         win = pot[y0:gy + r + 1, x0:gx + r + 1]
         iy, ix = np.mgrid[y0:y0 + win.shape[0], x0:x0 + win.shape[1]]
-        wx, wy = grid.cell_to_world(ix, iy)
+        wx, wy = grid.geometry.centre_of(ix, iy)
         d = np.hypot(wx - goal_xy[0], wy - goal_xy[1])
         ok = (win < POT_HIGH) & (d <= self.config.tolerance)
         if not ok.any():

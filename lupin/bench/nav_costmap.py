@@ -124,8 +124,8 @@ def local_update(config: LupinConfig) -> Sample:
     times = time_ms(once, 200)
     # Side by side: the clearing step alone for one scan, numba against vectorised numpy.
     grid = costmap.obstacle.grid
-    x0, y0 = (int(v) for v in grid.world_to_cell(*poses[0][:2]))
-    ends = np.clip(np.stack(grid.world_to_cell(poses[0][0] + np.cos(scans[0].angles) * 3.0,
+    x0, y0 = (int(v) for v in grid.geometry.cell_of(*poses[0][:2]))
+    ends = np.clip(np.stack(grid.geometry.cell_of(poses[0][0] + np.cos(scans[0].angles) * 3.0,
                                                poses[0][1] + np.sin(scans[0].angles) * 3.0)), 0, grid.width - 1)
     data = np.zeros_like(grid.data)
     numba_ms = time_ms(lambda: clear_rays(data, x0, y0, ends[0], ends[1], FREE), 50)

@@ -140,7 +140,7 @@ def navigate(
     from hw.odometry import Pose2D
     from mission.jobs.navigate import start_navigate
     from hw.atomic_file import write_png
-    from mission.jobs.nav_picture import draw_run
+    from mission.jobs.nav_picture import draw_navigation
     from sim.world_checks import robot_circle_problems
 
     goal = Pose2D(*parse_pose(to, "--to"))
@@ -170,7 +170,7 @@ def navigate(
                   "wall_time_s": round(wall, 2), "distance_m": round(run.distance, 3),
                   "truth_error": {"xy": round(xy, 4), "yaw": round(yaw, 4)}}
         if picture is not None:
-            write_png(picture, draw_run(run.nav.global_costmap.grid, run.plans,
+            write_png(picture, draw_navigation(run.nav.global_costmap.grid, run.plans,
                                             [run.to_map(p) for p in run.odom_path],
                                             [run.to_map(p) for p in run.truth_path], run.to_map(goal),
                                             config.nav.goal_checker.xy_tolerance))

@@ -38,7 +38,7 @@ def solid_cells(m: OccupancyMap, world: World, spawn: Pose2D,
     """Boolean [iy, ix] rasters on ``m``'s grid: (solid, floor) from the world file; the map
     frame is the robot's start pose ``spawn`` (world frame)."""
     ix, iy = np.meshgrid(np.arange(m.width), np.arange(m.height))
-    mx, my = m.cell_centres(ix, iy)
+    mx, my = m.geometry.centre_of(ix, iy)
     c, s = math.cos(spawn.yaw), math.sin(spawn.yaw)
     wx, wy = spawn.x + c * mx - s * my, spawn.y + s * mx + c * my
     fx, fy = world.floor.x, world.floor.y

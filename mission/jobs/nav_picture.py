@@ -16,6 +16,7 @@ import numpy as np
 
 from hw.odometry import Pose2D
 from nav.costmap.grid import INSCRIBED, LETHAL, UNKNOWN, CostGrid
+from nav.map_render import polyline
 
 PX_PER_CELL = 4
 MARGIN_M = 0.6
@@ -35,40 +36,32 @@ def _palette() -> np.ndarray:
     return lut
 
 
-def draw_run(grid: CostGrid, plans: Sequence[np.ndarray], odom: Sequence[Pose2D], truth: Sequence[Pose2D],
-             goal: Pose2D, xy_tolerance: float) -> np.ndarray:
+def draw_navigation(grid: CostGrid, plans: Sequence[np.ndarray], odom: Sequence[Pose2D], truth: Sequence[Pose2D],
+                    goal: Pose2D, xy_tolerance: float) -> np.ndarray:
     """BGR image; every pose in the map frame. Earlier plans are drawn thin, the last one bold."""
-    plan = plans[-1] if len(plans) else None
     pts = [np.array([[p.x, p.y] for p in list(odom) + list(truth)] + [[goal.x, goal.y]])]
     pts += [np.asarray(p)[:, :2] for p in plans]
+    geo = grid.geometry
     iy, ix = np.nonzero(grid.data != UNKNOWN)
     if len(ix):
-        pts.append(np.column_stack(grid.cell_to_world(ix, iy)))
+        pts.append(np.column_stack(geo.centre_of(ix, iy)))
     allp = np.vstack(pts)
-    lo, hi = allp.min(axis=0) - MARGIN_M, allp.max(axis=0) + MARGIN_M
-    (x0, x1), (y0, y1) = (np.clip(v, 0, n) for v, n in (
-        (np.array(grid.world_to_cell([lo[0], hi[0]], [lo[1], hi[1]])[0]), grid.width),
-        (np.array(grid.world_to_cell([lo[0], hi[0]], [lo[1], hi[1]])[1]), grid.height)))
-    crop = grid.data[y0:y1 + 1, x0:x1 + 1]
-    img = _palette()[crop[::-1]]  # rows flipped: map north up
+    (x0, x1), (y0, y1) = (np.clip(c, 0, n - 1) for c, n in zip(
+        geo.cell_of(*(np.array([allp.min(axis=0) - MARGIN_M, allp.max(axis=0) + MARGIN_M]).T)), (geo.width, geo.height)))
+    crop = geo.cropped(int(x0), int(y0), int(x1) + 1, int(y1) + 1)
+    img = _palette()[grid.data[y0:y1 + 1, x0:x1 + 1][::-1]]  # rows flipped: map north up
     img = cv2.resize(img, (img.shape[1] * PX_PER_CELL, img.shape[0] * PX_PER_CELL), interpolation=cv2.INTER_NEAREST)
-    ppm = PX_PER_CELL / grid.resolution
-    ox, oy = grid.origin_x + x0 * grid.resolution, grid.origin_y + (y1 + 1) * grid.resolution
-
-    def px(x, y) -> np.ndarray:
-        return np.column_stack([(np.asarray(x) - ox) * ppm, (oy - np.asarray(y)) * ppm]).round().astype(np.int32)
 
     for old in plans[:-1]:
-        cv2.polylines(img, [px(old[:, 0], old[:, 1])], False, LIGHT_BLUE, 1, cv2.LINE_AA)
-    if plan is not None and len(plan):
-        cv2.polylines(img, [px(plan[:, 0], plan[:, 1])], False, BLUE, 2, cv2.LINE_AA)
+        polyline(img, crop, PX_PER_CELL, np.asarray(old)[:, :2], LIGHT_BLUE, 1)
+    if len(plans):
+        polyline(img, crop, PX_PER_CELL, np.asarray(plans[-1])[:, :2], BLUE, 2)
     for path, colour in ((odom, GREEN), (truth, MAGENTA)):
-        if len(path) > 1:
-            cv2.polylines(img, [px([p.x for p in path], [p.y for p in path])], False, colour, 2, cv2.LINE_AA)
-    g = px([goal.x], [goal.y])[0]
-    cv2.circle(img, tuple(int(v) for v in g), int(xy_tolerance * ppm), BLACK, 1, cv2.LINE_AA)
-    tip = px([goal.x + 0.3 * np.cos(goal.yaw)], [goal.y + 0.3 * np.sin(goal.yaw)])[0]
-    cv2.arrowedLine(img, tuple(int(v) for v in g), tuple(int(v) for v in tip), BLACK, 2, cv2.LINE_AA, tipLength=0.3)
+        polyline(img, crop, PX_PER_CELL, [(p.x, p.y) for p in path], colour, 2)
+    (gc, gr), (tc, tr) = (np.round(crop.pixel_of(x, y, PX_PER_CELL)).astype(int) for x, y in (
+        (goal.x, goal.y), (goal.x + 0.3 * np.cos(goal.yaw), goal.y + 0.3 * np.sin(goal.yaw))))
+    cv2.circle(img, (gc, gr), int(xy_tolerance / grid.resolution * PX_PER_CELL), BLACK, 1, cv2.LINE_AA)
+    cv2.arrowedLine(img, (gc, gr), (tc, tr), BLACK, 2, cv2.LINE_AA, tipLength=0.3)
     legend = [("plan", BLUE), ("belief (map pose)", GREEN), ("truth", MAGENTA)]
     for k, (name, colour) in enumerate(legend):
         cv2.putText(img, name, (8, 18 + 18 * k), cv2.FONT_HERSHEY_SIMPLEX, 0.5, colour, 1, cv2.LINE_AA)

@@ -14,6 +14,8 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from nav.grid_geometry import GridGeometry
+
 #: Commands the runtime answers (``lupin/<robot>/cmd/<name>``) and their arguments.
 COMMANDS: dict[str, str] = {
     "estop": "engaged: bool (engaging is allowed without the token)",
@@ -59,6 +61,10 @@ class GridView:
     resolution: float
     origin_x: float
     origin_y: float
+
+    @property
+    def geometry(self) -> GridGeometry:
+        return GridGeometry.of(self.data, self.resolution, self.origin_x, self.origin_y)
 
 
 @dataclass

@@ -18,7 +18,6 @@ legend (with counts), then the thumbnails in the pots' order, each captioned wit
 """
 from __future__ import annotations
 
-import math
 from collections import Counter
 from dataclasses import dataclass
 from typing import Sequence
@@ -26,6 +25,7 @@ from typing import Sequence
 import cv2
 import numpy as np
 
+from nav.grid_geometry import paste
 from nav.map_render import default_scale, render_map, to_pixel
 from nav.occupancy import FREE, UNKNOWN, OccupancyMap
 
@@ -96,13 +96,10 @@ def canvas(occupancy: OccupancyMap | None, path_xy: np.ndarray, pots: Sequence[P
     if occupancy is None:
         res = max(BLANK_RESOLUTION, float((hi - lo).max()) / BLANK_MAX_CELLS)
         base, fill = OccupancyMap(np.full((1, 1), FREE, np.int8), res, float(lo[0]), float(lo[1])), FREE
-    res = base.resolution
-    x_lo, y_lo = (max(0, math.ceil((o - v) / res - 1e-6)) for o, v in ((base.origin_x, lo[0]), (base.origin_y, lo[1])))
-    x_hi = max(0, math.ceil((hi[0] - base.origin_x) / res - 1e-6) - base.width)
-    y_hi = max(0, math.ceil((hi[1] - base.origin_y) / res - 1e-6) - base.height)
-    if x_lo or y_lo or x_hi or y_hi:
-        base = OccupancyMap(np.pad(base.occupancy, ((y_lo, y_hi), (x_lo, x_hi)), constant_values=fill), res,
-                            base.origin_x - x_lo * res, base.origin_y - y_lo * res, base.origin_yaw)
+    geo = base.geometry.grown_to_cover(lo[0], lo[1], hi[0], hi[1])
+    if geo != base.geometry:
+        base = OccupancyMap(paste(base.occupancy, base.geometry, geo, fill), geo.resolution, geo.origin_x, geo.origin_y,
+                            base.origin_yaw)
     return base, default_scale(base)
 
 

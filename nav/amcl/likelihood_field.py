@@ -49,9 +49,8 @@ class LikelihoodField:
 
     def _index(self, points_xy: np.ndarray) -> np.ndarray:
         """Flat cell index of each point, or the off-map slot."""
-        ix, iy = self.map.cell_of(points_xy[..., 0], points_xy[..., 1])
-        inside = (ix >= 0) & (ix < self._w) & (iy >= 0) & (iy < self._h)
-        return np.where(inside, iy * self._w + ix, self._w * self._h)
+        idx = self.map.geometry.flat_index(points_xy[..., 0], points_xy[..., 1])
+        return np.where(idx >= 0, idx, self._w * self._h)
 
     def distance_at(self, points_xy: np.ndarray) -> np.ndarray:
         """Distance to the nearest obstacle at each point (..., 2), m (the maximum off the map)."""

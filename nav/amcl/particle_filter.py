@@ -197,6 +197,6 @@ class ParticleFilter:
         if len(self._free) == 0:
             return self.particles[:k].copy()
         cell = self._free[self.rng.integers(0, len(self._free), k)]
-        x, y = self.map.cell_centres(cell % self.map.width, cell // self.map.width)
+        x, y = self.map.geometry.centre_of(cell % self.map.width, cell // self.map.width)
         jitter = (self.rng.random((k, 2)) - 0.5) * self.map.resolution
         return np.column_stack([x + jitter[:, 0], y + jitter[:, 1], self.rng.uniform(-math.pi, math.pi, k)])

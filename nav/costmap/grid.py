@@ -11,6 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from nav.grid_geometry import GridGeometry, paste
+
 FREE = 0
 INSCRIBED = 253
 LETHAL = 254
@@ -37,25 +39,16 @@ class CostGrid:
     def height(self) -> int:
         return self.data.shape[0]
 
-    def world_to_cell(self, x, y) -> tuple[np.ndarray, np.ndarray]:
-        """Cell indices (ix, iy) of world points, as int arrays; may lie outside the grid."""
-        ix = np.floor((np.asarray(x, dtype=np.float64) - self.origin_x) / self.resolution).astype(np.int64)
-        iy = np.floor((np.asarray(y, dtype=np.float64) - self.origin_y) / self.resolution).astype(np.int64)
-        return ix, iy
-
-    def cell_to_world(self, ix, iy) -> tuple[np.ndarray, np.ndarray]:
-        """World coordinates of cell centres."""
-        return (self.origin_x + (np.asarray(ix) + 0.5) * self.resolution,
-                self.origin_y + (np.asarray(iy) + 0.5) * self.resolution)
-
-    def inside(self, ix, iy) -> np.ndarray:
-        ix, iy = np.asarray(ix), np.asarray(iy)
-        return (ix >= 0) & (ix < self.width) & (iy >= 0) & (iy < self.height)
+    @property
+    def geometry(self) -> GridGeometry:
+        """Where the grid lies: world <-> cell <-> pixel (``nav.grid_geometry``)."""
+        return GridGeometry.of(self.data, self.resolution, self.origin_x, self.origin_y)
 
     def cost_at(self, x, y, outside: int = UNKNOWN) -> np.ndarray:
         """Cost of the cells under world points (vectorised); ``outside`` beyond the grid."""
-        ix, iy = self.world_to_cell(x, y)
-        ok = self.inside(ix, iy)
+        g = self.geometry
+        ix, iy = g.cell_of(x, y)
+        ok = g.contains(ix, iy)
         out = np.full(ix.shape, outside, dtype=np.uint8)
         out[ok] = self.data[iy[ok], ix[ok]]
         return out
@@ -66,11 +59,11 @@ class CostGrid:
     def shifted(self, dx_cells: int, dy_cells: int, fill: int) -> "CostGrid":
         """The same extent moved by whole cells (a rolling window following the robot): the
         overlap keeps its values, newly exposed cells get ``fill`` (Nav2's updateOrigin)."""
-        h, w = self.data.shape
-        out = np.full_like(self.data, fill)
-        sx0, sx1 = max(dx_cells, 0), min(w + dx_cells, w)  # source columns still inside
-        sy0, sy1 = max(dy_cells, 0), min(h + dy_cells, h)
-        if sx0 < sx1 and sy0 < sy1:
-            out[sy0 - dy_cells:sy1 - dy_cells, sx0 - dx_cells:sx1 - dx_cells] = self.data[sy0:sy1, sx0:sx1]
-        return CostGrid(out, self.resolution, self.origin_x + dx_cells * self.resolution,
-                        self.origin_y + dy_cells * self.resolution)
+        g = self.geometry
+        moved = g.shifted(dx_cells, dy_cells)
+        return CostGrid(paste(self.data, g, moved, fill), self.resolution, moved.origin_x, moved.origin_y)
+
+    def on(self, geometry: GridGeometry, fill: int) -> "CostGrid":
+        """The same cells on another grid of the same lattice (grown, shifted or cropped)."""
+        return CostGrid(paste(self.data, self.geometry, geometry, fill), geometry.resolution,
+                        geometry.origin_x, geometry.origin_y)

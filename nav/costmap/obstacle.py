@@ -42,8 +42,9 @@ class ObstacleLayer:
     def update(self, scan: LidarScan, sensor_pose: tuple[float, float, float]) -> None:
         g = self.grid
         sx, sy, syaw = sensor_pose
-        ix0, iy0 = (int(v) for v in g.world_to_cell(sx, sy))
-        if not g.inside(ix0, iy0):
+        geo = g.geometry
+        ix0, iy0 = (int(v) for v in geo.cell_of(sx, sy))
+        if not geo.contains(ix0, iy0):
             log.debug("sensor at (%.2f, %.2f) is outside the costmap; scan skipped", sx, sy)
             return
         r = np.asarray(scan.ranges, dtype=np.float64)
@@ -58,8 +59,8 @@ class ObstacleLayer:
         clear_rays(g.data, ix0, iy0, x1, y1, FREE)
 
         marks = hit & (r <= self.mark_range)
-        mx, my = g.world_to_cell(sx + r[marks] * np.cos(a[marks]), sy + r[marks] * np.sin(a[marks]))
-        ok = g.inside(mx, my)
+        mx, my = geo.cell_of(sx + r[marks] * np.cos(a[marks]), sy + r[marks] * np.sin(a[marks]))
+        ok = geo.contains(mx, my)
         g.data[my[ok], mx[ok]] = LETHAL
 
     def _clip_to_grid(self, sx: float, sy: float, dx: np.ndarray, dy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -16,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from nav.costmap.grid import FREE, LETHAL, UNKNOWN, CostGrid
+from nav.grid_geometry import GridGeometry
 
 
 class StaticLayer:
@@ -41,9 +42,8 @@ class StaticLayer:
             raise ValueError(f"static map: expected a 2-D occupancy grid and a positive resolution, "
                              f"got shape {occ.shape} at {resolution} m")
         cells = self.trinary(occ)
-        cx, cy = target.cell_to_world(np.arange(target.width), np.arange(target.height))
-        mx = np.floor((cx - origin_x) / resolution).astype(np.int64)  # map column of each costmap column
-        my = np.floor((cy - origin_y) / resolution).astype(np.int64)
+        cx, cy = target.geometry.centre_of(np.arange(target.width), np.arange(target.height))
+        mx, my = GridGeometry.of(occ, resolution, origin_x, origin_y).cell_of(cx, cy)  # the map cell of each costmap column / row
         out = np.full(target.data.shape, self.unknown, dtype=np.uint8)
         cols, rows = np.nonzero((mx >= 0) & (mx < cells.shape[1]))[0], np.nonzero((my >= 0) & (my < cells.shape[0]))[0]
         out[np.ix_(rows, cols)] = cells[np.ix_(my[rows], mx[cols])]

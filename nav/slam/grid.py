@@ -19,6 +19,7 @@ import math
 
 import numpy as np
 
+from nav.grid_geometry import GridGeometry
 from nav.occupancy import UNKNOWN, OccupancyMap
 
 L_HIT = math.log(0.7 / 0.3)
@@ -27,12 +28,10 @@ L_MIN, L_MAX = -2.0, 3.5
 
 
 class LogOddsGrid:
-    def __init__(self, size_x: float, size_y: float, resolution: float, origin_x: float, origin_y: float):
-        self.resolution = resolution
-        self.origin = (origin_x, origin_y)
-        self.nx, self.ny = int(round(size_x / resolution)), int(round(size_y / resolution))
-        self.logodds = np.zeros(self.ny * self.nx, dtype=np.float32)
-        self.seen = np.zeros(self.ny * self.nx, dtype=bool)
+    def __init__(self, geometry: GridGeometry):
+        self.geometry = geometry
+        self.logodds = np.zeros(geometry.height * geometry.width, dtype=np.float32)
+        self.seen = np.zeros(geometry.height * geometry.width, dtype=bool)
 
     def clear(self) -> None:
         self.logodds[:] = 0.0
@@ -42,16 +41,16 @@ class LogOddsGrid:
         """One scan: ``ends`` (N, 2) are the returns' map-frame points seen from ``sensor_xy``."""
         if len(ends) == 0:
             return
-        res = self.resolution
+        g = self.geometry
         sx, sy = sensor_xy
         d = ends - (sx, sy)
         length = np.hypot(d[:, 0], d[:, 1])
-        steps = np.maximum(np.ceil(length / (0.5 * res)).astype(np.int64), 1)
+        steps = np.maximum(np.ceil(length / (0.5 * g.resolution)).astype(np.int64), 1)
         beam = np.repeat(np.arange(len(ends)), steps)
         first = np.repeat(np.cumsum(steps) - steps, steps)
         frac = (np.arange(len(beam)) - first) / steps[beam]
-        free = self._flat(sx + d[beam, 0] * frac, sy + d[beam, 1] * frac)
-        hit = self._flat(ends[:, 0], ends[:, 1])
+        free = g.flat_index(sx + d[beam, 0] * frac, sy + d[beam, 1] * frac)
+        hit = g.flat_index(ends[:, 0], ends[:, 1])
         crossed = np.zeros(self.logodds.shape, dtype=bool)
         crossed[free[free >= 0]] = True
         hit = np.unique(hit[hit >= 0])
@@ -64,13 +63,7 @@ class LogOddsGrid:
 
     def occupancy(self) -> OccupancyMap:
         """The grid as map_server values: percent of occupancy, -1 where never observed."""
+        g = self.geometry
         p = 100.0 / (1.0 + np.exp(-self.logodds))
-        occ = np.where(self.seen, np.rint(p), UNKNOWN).astype(np.int8).reshape(self.ny, self.nx)
-        return OccupancyMap(occ, self.resolution, self.origin[0], self.origin[1])
-
-    def _flat(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
-        """Flat cell indices, -1 outside the grid."""
-        ix = np.floor((x - self.origin[0]) / self.resolution).astype(np.int64)
-        iy = np.floor((y - self.origin[1]) / self.resolution).astype(np.int64)
-        inside = (ix >= 0) & (ix < self.nx) & (iy >= 0) & (iy < self.ny)
-        return np.where(inside, iy * self.nx + ix, -1)
+        occ = np.where(self.seen, np.rint(p), UNKNOWN).astype(np.int8).reshape(g.shape)
+        return OccupancyMap(occ, g.resolution, g.origin_x, g.origin_y)

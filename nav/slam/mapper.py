@@ -24,6 +24,7 @@ import numpy as np
 
 from hw.odometry import Pose2D
 from nav.frames import compose, distance, inverse, transform_points, yaw_error
+from nav.grid_geometry import GridGeometry
 from nav.occupancy import OccupancyMap
 from nav.slam.config import SlamConfig
 from nav.slam.grid import LogOddsGrid
@@ -67,7 +68,7 @@ class Mapper:
         self.graph = PoseGraph()
         self.loops = LoopCloser(cfg)
         sx, sy = cfg.size
-        self.grid = LogOddsGrid(sx, sy, cfg.resolution, -sx / 2, -sy / 2)
+        self.grid = LogOddsGrid(GridGeometry.covering(-sx / 2, -sy / 2, sx / 2, sy / 2, cfg.resolution))
         self.pose = start
         """The latest scan's ``base_link`` pose in ``map``."""
         self.map_to_odom = Pose2D()

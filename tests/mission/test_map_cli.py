@@ -39,10 +39,10 @@ def test_map_save_surveys_the_greenhouse_with_slam_and_writes_a_loadable_map(cap
     assert (tmp_path / "m" / "tiny.pgm").is_file()
     # cropped to what was explored, about the 5 x 3 m floor plus walls, in the dock's frame
     assert 4.5 < m.width * m.resolution < 7.0 and 2.5 < m.height * m.resolution < 5.0
-    ix, iy = m.cell_of([2.0 - 1.0], [1.5 - 0.6 - 0.11])  # pot A's south face, map frame
+    ix, iy = m.geometry.cell_of([2.0 - 1.0], [1.5 - 0.6 - 0.11])  # pot A's south face, map frame
     near = m.occupancy[iy[0] - 1:iy[0] + 2, ix[0] - 1:ix[0] + 2]
     assert (near >= 65).any()
-    ix, iy = m.cell_of([0.5], [0.0])  # the aisle ahead of the dock: free
+    ix, iy = m.geometry.cell_of([0.5], [0.0])  # the aisle ahead of the dock: free
     assert m.occupancy[iy[0], ix[0]] == 0
 
 

@@ -112,7 +112,7 @@ def test_the_report_directory_holds_map_config_and_picture(default_patrol):
     m = load_map(p.directory / "map.yaml")
     assert (m.occupancy == 100).sum() > 200  # walls and pots
     x, y = world.pots[0].x - world.spawn.x, world.pots[0].y - world.spawn.y  # P01, map frame
-    ix, iy = m.cell_of(x, y)
+    ix, iy = m.geometry.cell_of(x, y)
     assert (m.occupancy[iy - 3:iy + 4, ix - 3:ix + 4] == 100).any()
     assert load_config((p.directory / "config.yaml")) == load_config(env={"LUPIN_SIM__SEED": "0"})
     tree = (p.directory / "tree.txt").read_text().splitlines()

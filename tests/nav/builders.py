@@ -82,6 +82,6 @@ def box_occupancy(shape=(80, 80), box=(50, 30, 55, 50)) -> np.ndarray:
 
 def draw_disc(grid: CostGrid, x: float, y: float, radius: float, value: int = LETHAL) -> CostGrid:
     """Draw a filled disc (world coordinates) into ``grid`` in place; returns it."""
-    ix, iy = grid.world_to_cell(x, y)
+    ix, iy = grid.geometry.cell_of(x, y)
     cv2.circle(grid.data, (int(ix), int(iy)), int(round(radius / grid.resolution)), int(value), -1)
     return grid

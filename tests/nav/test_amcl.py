@@ -78,10 +78,10 @@ def test_the_likelihood_field_is_zero_on_obstacles_grows_away_and_saturates():
     pts = pot + np.array([[0.0, 0.0], [0.0, 0.2], [0.0, 0.3], [0.0, 0.4], [0.3, 0.45]])
     d = f.distance_at(pts)
     assert d[0] == 0.0 and 0.0 < d[1] < d[2] < d[3]
-    ix, iy = OCC.cell_of(pts[:, 0], pts[:, 1])  # brute force: cell centre to nearest occupied centre
-    cx, cy = OCC.cell_centres(ix, iy)
+    ix, iy = OCC.geometry.cell_of(pts[:, 0], pts[:, 1])  # brute force: cell centre to nearest occupied centre
+    cx, cy = OCC.geometry.centre_of(ix, iy)
     oy, ox = np.nonzero(OCC.occupied())
-    ocx, ocy = OCC.cell_centres(ox, oy)
+    ocx, ocy = OCC.geometry.centre_of(ox, oy)
     assert d == pytest.approx(np.hypot(cx[:, None] - ocx, cy[:, None] - ocy).min(axis=1), abs=1e-5)
     assert f.distance_at(np.array([-5.0, -5.0])) == 2.0  # off the map: the maximum
     lone = np.zeros((100, 100), np.int8)

@@ -75,7 +75,7 @@ def test_a_blocked_goal_is_replaced_by_the_nearest_reachable_cell_within_toleran
     assert 0.22 < dist <= 0.5
     # nothing reachable is nearer: every cell closer to the pot is blocked
     iy, ix = np.nonzero(grid.data < INSCRIBED)
-    wx, wy = grid.cell_to_world(ix, iy)
+    wx, wy = grid.geometry.centre_of(ix, iy)
     assert np.hypot(wx - 3.0, wy - 1.0).min() >= dist - 1e-9
 
 

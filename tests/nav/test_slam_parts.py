@@ -12,6 +12,7 @@ from nav.frames import compose, inverse
 from nav.occupancy import UNKNOWN
 from nav.readiness import Readiness
 from nav.slam.config import SlamConfig
+from nav.grid_geometry import GridGeometry
 from nav.slam.grid import LogOddsGrid
 from nav.slam.mapper import Mapper
 from nav.slam.pose_graph import PoseGraph
@@ -22,11 +23,11 @@ from tests.nav.builders import RES, greenhouse_occupancy, scan_from_occupancy
 # -- grid ---------------------------------------------------------------------------------------
 
 def test_a_return_marks_its_cell_occupied_and_the_cells_before_it_free():
-    g = LogOddsGrid(4.0, 4.0, RES, -2.0, -2.0)
+    g = LogOddsGrid(GridGeometry.covering(-2.0, -2.0, 2.0, 2.0, RES))
     for _ in range(3):
         g.integrate((0.0, 0.0), np.array([[1.0, 0.0]]))
     occ = g.occupancy()
-    ix, iy = occ.cell_of([1.0, 0.5, 0.0, -0.5], [0.0, 0.0, 0.0, 0.0])
+    ix, iy = occ.geometry.cell_of([1.0, 0.5, 0.0, -0.5], [0.0, 0.0, 0.0, 0.0])
     assert occ.occupancy[iy[0], ix[0]] >= 65  # the hit
     assert 0 <= occ.occupancy[iy[1], ix[1]] <= 25  # crossed three times: free
     assert 0 <= occ.occupancy[iy[2], ix[2]] <= 25  # the sensor's own cell was crossed too
@@ -35,24 +36,24 @@ def test_a_return_marks_its_cell_occupied_and_the_cells_before_it_free():
 
 
 def test_one_scan_counts_a_cell_once_however_many_beams_cross_it():
-    g = LogOddsGrid(4.0, 4.0, RES, -2.0, -2.0)
+    g = LogOddsGrid(GridGeometry.covering(-2.0, -2.0, 2.0, 2.0, RES))
     ends = np.array([[1.0, 0.0], [1.0, 0.01], [1.0, -0.01]])  # three beams through the same cells
     g.integrate((0.0, 0.0), ends)
     occ = g.occupancy()
-    ix, iy = occ.cell_of([0.5], [0.0])
+    ix, iy = occ.geometry.cell_of([0.5], [0.0])
     assert occ.occupancy[iy[0], ix[0]] == 40  # one miss: logit 0.4, not three
 
 
 def test_a_cell_hit_and_crossed_in_one_scan_counts_as_hit():
-    g = LogOddsGrid(4.0, 4.0, RES, -2.0, -2.0)
+    g = LogOddsGrid(GridGeometry.covering(-2.0, -2.0, 2.0, 2.0, RES))
     g.integrate((0.0, 0.0), np.array([[0.5, 0.0], [1.0, 0.0]]))  # the far beam crosses the near hit
     occ = g.occupancy()
-    ix, iy = occ.cell_of([0.5], [0.0])
+    ix, iy = occ.geometry.cell_of([0.5], [0.0])
     assert occ.occupancy[iy[0], ix[0]] == 70
 
 
 def test_returns_outside_the_grid_are_ignored_and_clear_forgets():
-    g = LogOddsGrid(2.0, 2.0, RES, -1.0, -1.0)
+    g = LogOddsGrid(GridGeometry.covering(-1.0, -1.0, 1.0, 1.0, RES))
     g.integrate((0.0, 0.0), np.array([[5.0, 0.0]]))  # the beam leaves the grid
     assert (g.occupancy().occupancy >= 65).sum() == 0 and (g.occupancy().occupancy == 0).sum() == 0
     assert (g.occupancy().occupancy >= 0).sum() == 20
@@ -150,6 +151,6 @@ def test_the_mapper_tracks_a_drive_with_biased_odometry_and_maps_the_pots():
     assert errors[-1] < 0.05 and max(errors) < 0.06, errors
     assert mapper.keyframes >= 15
     m = mapper.occupancy()
-    ix, iy = m.cell_of([3.0 - start.x, 3.0 - start.x], [0.91 - start.y, 1.0 - start.y])
+    ix, iy = m.geometry.cell_of([3.0 - start.x, 3.0 - start.x], [0.91 - start.y, 1.0 - start.y])
     assert m.occupancy[iy[0], ix[0]] >= 65  # pot P02's south face, seen from the aisle
     assert m.occupancy[iy[1], ix[1]] == 50 or m.occupancy[iy[1], ix[1]] == UNKNOWN  # its inside: never seen

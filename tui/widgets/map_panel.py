@@ -24,6 +24,7 @@ from textual.strip import Strip
 from textual.widget import Widget
 
 from mission.link.view import GridView, RobotView
+from nav.grid_geometry import GridGeometry
 from tui.halfblocks import half_block_rows
 
 UNKNOWN, FREE, MAYBE, OCCUPIED = (28, 28, 36), (70, 74, 70), (110, 110, 104), (235, 235, 225)
@@ -70,9 +71,7 @@ def _known_extent(g: GridView) -> tuple[float, float, float, float] | None:
     cols, rows = np.flatnonzero(known.any(axis=0)), np.flatnonzero(known.any(axis=1))
     if not len(cols):
         return None
-    r = g.resolution
-    return (g.origin_x + cols[0] * r, g.origin_x + (cols[-1] + 1) * r,
-            g.origin_y + rows[0] * r, g.origin_y + (rows[-1] + 1) * r)
+    return g.geometry.cropped(cols[0], rows[0], cols[-1] + 1, rows[-1] + 1).extent
 
 
 def _bounds(view: RobotView) -> tuple[float, float, float, float]:
@@ -93,10 +92,10 @@ def _bounds(view: RobotView) -> tuple[float, float, float, float]:
     return min(xs) - MARGIN, max(xs) + MARGIN, min(ys) - MARGIN, max(ys) + MARGIN
 
 
-def _spans(edges: np.ndarray, origin: float, resolution: float, n: int) -> tuple[np.ndarray, np.ndarray, int, int]:
-    """For pixels between ``edges`` (ascending world coordinates): the first cell of each
-    (clipped to the grid), whether it touches the grid, and the slice of cells they cover."""
-    idx = np.floor((edges - origin) / resolution).astype(np.int64)
+def _spans(idx: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, int, int]:
+    """For pixels whose edges fall in cells ``idx`` (ascending, along one axis of a grid of
+    ``n`` cells): the first cell of each (clipped to the grid), whether it touches the grid,
+    and the slice of cells they cover."""
     first, after = idx[:-1], np.maximum(idx[1:], idx[:-1] + 1)  # a pixel smaller than a cell still gets one
     on = (after > 0) & (first < n)
     first = np.clip(first, 0, n - 1)
@@ -106,21 +105,22 @@ def _spans(edges: np.ndarray, origin: float, resolution: float, n: int) -> tuple
 
 
 class Canvas:
-    """Square pixels over a world window: (0, 0) is the top-left pixel, +y is up in the world."""
+    """Square pixels over a world window: a grid whose cells are the pixels (``geometry``),
+    drawn north up, so (0, 0) is the top-left pixel."""
 
     def __init__(self, view: RobotView, width: int, height: int):
         x0, x1, y0, y1 = _bounds(view)
         self.w, self.h = width, 2 * height
         self.scale = min(self.w / (x1 - x0), self.h / (y1 - y0))  # pixels per metre
-        self.x0 = (x0 + x1) / 2 - self.w / (2 * self.scale)
-        self.y1 = (y0 + y1) / 2 + self.h / (2 * self.scale)
+        size = 1.0 / self.scale
+        self.geometry = GridGeometry(size, (x0 + x1 - self.w * size) / 2, (y0 + y1 - self.h * size) / 2, self.w, self.h)
         self.rgb = np.empty((self.h, self.w, 3), np.uint8)
         self.rgb[:] = UNKNOWN
 
     def to_pixel(self, x, y) -> tuple[np.ndarray, np.ndarray]:
         """(column, row) of world points."""
-        return (np.floor((np.asarray(x, float) - self.x0) * self.scale).astype(np.int64),
-                np.floor((self.y1 - np.asarray(y, float)) * self.scale).astype(np.int64))
+        c, r = self.geometry.pixel_of(x, y)
+        return np.floor(c).astype(np.int64), np.floor(r).astype(np.int64)
 
     def dots(self, x, y, colour) -> None:
         c, r = self.to_pixel(x, y)
@@ -144,11 +144,11 @@ class Canvas:
 
     def pool(self, grid: GridView) -> tuple[np.ndarray, np.ndarray]:
         """Per pixel: the maximum of the grid cells under it, and whether it lies on the grid."""
-        h, w = grid.data.shape
-        xe = self.x0 + np.arange(self.w + 1) / self.scale
-        ye = (self.y1 - self.h / self.scale) + np.arange(self.h + 1) / self.scale  # bottom row first
-        cols, on_x, c0, c1 = _spans(xe, grid.origin_x, grid.resolution, w)
-        rows, on_y, r0, r1 = _spans(ye, grid.origin_y, grid.resolution, h)
+        pixels, cells = self.geometry, grid.geometry
+        xe, ye = (o + np.arange(n + 1) * pixels.resolution for o, n in (
+            (pixels.origin_x, self.w), (pixels.origin_y, self.h)))  # pixel edges, bottom row first
+        cols, on_x, c0, c1 = _spans(cells.cell_of(xe, cells.origin_y)[0], cells.width)
+        rows, on_y, r0, r1 = _spans(cells.cell_of(cells.origin_x, ye)[1], cells.height)
         cells = np.maximum.reduceat(grid.data[r0:r1, c0:c1], cols, axis=1)
         cells = np.maximum.reduceat(cells, rows, axis=0)[::-1]  # top row first
         return cells, on_y[::-1, None] & on_x[None, :]
