@@ -40,8 +40,8 @@ def wrap_angle(a: float) -> float:
 
 
 def wrap_angles(a: np.ndarray) -> np.ndarray:
-    """``wrap_angle`` for arrays: [-pi, pi), vectorised."""
-    return np.remainder(a + math.pi, 2.0 * math.pi) - math.pi
+    """``wrap_angle`` for arrays, vectorised, the same (-pi, pi]."""
+    return math.pi - np.remainder(math.pi - np.asarray(a), 2.0 * math.pi)
 
 
 class WheelOdometry:

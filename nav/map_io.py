@@ -44,6 +44,7 @@ import yaml
 
 from hw.atomic_file import write_atomic
 from hw.errors import InputError
+from hw.input_file import read_yaml
 from nav.occupancy import FREE, OCCUPIED, UNKNOWN, OccupancyMap
 
 OCCUPIED_THRESH = 0.65
@@ -204,18 +205,7 @@ def _parse_pgm(data: bytes, where: str) -> np.ndarray:
 
 
 def _read_yaml(path: Path) -> dict:
-    try:
-        text = path.read_text()
-    except FileNotFoundError:
-        raise InputError(f"{path}: map file does not exist") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{path}: cannot read the map file ({exc})") from None
-    try:
-        meta = yaml.safe_load(text)
-    except yaml.YAMLError as exc:
-        where = getattr(exc, "problem_mark", None)
-        line = f" (line {where.line + 1})" if where is not None else ""
-        raise InputError(f"{path}: not valid YAML{line}") from None
+    meta = read_yaml(path, "map file")  # strict: a duplicate key is an error, not a silent override
     if not isinstance(meta, dict):
         raise InputError(f"{path}: a map file is a YAML mapping (image, resolution, origin, ...)")
     return meta

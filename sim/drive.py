@@ -81,9 +81,6 @@ class SimDrive:
         return tuple(int(t) for t in ticks)
 
     # --- traction ----------------------------------------------------------------------
-    def wheel_speeds(self) -> np.ndarray:
-        return self.engine.data.qvel[self._wheel_dof].copy()
-
     def pre_chunk(self, t: float) -> None:
         tw = self.mecanum.forward(self.engine.data.qvel[self._wheel_dof])
         slip = self._slip + self.drive.slip_jitter * self._rng.standard_normal(3)

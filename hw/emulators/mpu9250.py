@@ -7,7 +7,6 @@ INT_PIN_CFG bypass bit is set, and reports little-endian data with ST2 read afte
 """
 from __future__ import annotations
 
-import math
 
 import numpy as np
 
@@ -83,8 +82,3 @@ class Ak8963Twin(RegisterDevice):
     def write(self, reg: int, data: bytes) -> None:
         if reg == self.CNTL1 and data:
             self.cntl1 = data[0]
-
-
-def heading_field(yaw: float, strength_ut: float = 40.0) -> tuple[float, float, float]:
-    """Horizontal earth field as the magnetometer sees it with the robot at ``yaw``."""
-    return (strength_ut * math.cos(-yaw), strength_ut * math.sin(-yaw), -30.0)

@@ -109,7 +109,7 @@ def _scan(occupancy: np.ndarray, pose, beams: int = 500, max_range: float = 12.0
 @benchmark("nav.local_costmap")
 def local_update(config: LupinConfig) -> Sample:
     """One update of the 3 x 3 m local costmap from a 500-point scan while driving down an
-    aisle (the window rolls every update): clear, mark, merge, inflate, record the deltas."""
+    aisle (the window rolls every update): clear, mark, merge, inflate."""
     world = _greenhouse(200)
     poses = [(1.0 + 0.1 * i, 1.5, 0.0) for i in range(60)]
     scans = [_scan(world, p) for p in poses]

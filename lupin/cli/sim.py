@@ -9,6 +9,7 @@ from typing import Optional
 
 import typer
 
+from hw.atomic_file import write_atomic
 from hw.errors import InputError
 from mission.runtime.config import LupinConfig, load_config, save_config, with_seed
 from mission.jobs.route import ROUTES
@@ -67,7 +68,7 @@ def generate(
         sys.stdout.write(text)
         return
     try:
-        output.write_text(text)
+        write_atomic(output, text.encode())
     except OSError as exc:
         raise InputError(f"cannot write {output}: {exc.strerror}") from None
     print(f"wrote {output}")
@@ -93,7 +94,7 @@ def drive(
     print(format_results(run))
     out.mkdir(parents=True, exist_ok=True)
     save_config(config, out)
-    (out / "drive.json").write_text(json.dumps(results_json(run), indent=2))
+    write_atomic(out / "drive.json", json.dumps(results_json(run), indent=2).encode())
     if not run.driver.done:
         print(f"route {route!r} did not finish within the time limit", file=sys.stderr)
         raise typer.Exit(1)

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 from hw.interfaces import ZERO_TWIST, Twist
-from hw.odometry import Pose2D
+from hw.odometry import Pose2D, wrap_angle
 
 
 @dataclass(frozen=True)
@@ -49,8 +49,7 @@ def relative(start: Pose2D, end: Pose2D) -> tuple[float, float, float]:
     """``end`` seen from ``start``'s body frame: (forward, left, yaw change wrapped to +-pi)."""
     dx, dy = end.x - start.x, end.y - start.y
     c, s = math.cos(start.yaw), math.sin(start.yaw)
-    dyaw = math.atan2(math.sin(end.yaw - start.yaw), math.cos(end.yaw - start.yaw))
-    return c * dx + s * dy, -s * dx + c * dy, dyaw
+    return c * dx + s * dy, -s * dx + c * dy, wrap_angle(end.yaw - start.yaw)
 
 
 @dataclass

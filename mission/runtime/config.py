@@ -17,6 +17,7 @@ from pydantic import BaseModel, ConfigDict, ValidationError
 
 from arm.config import ArmConfig
 from hw.config import HwConfig
+from hw.atomic_file import write_atomic
 from hw.errors import InputError
 from hw.input_file import read_yaml
 from mission.link.config import LinkConfig
@@ -126,5 +127,5 @@ def save_config(config: LupinConfig, directory: str | Path) -> Path:
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     out = directory / CONFIG_FILENAME
-    out.write_text(yaml.safe_dump(config.model_dump(mode="json"), sort_keys=False))
+    write_atomic(out, yaml.safe_dump(config.model_dump(mode="json"), sort_keys=False).encode())
     return out

@@ -25,7 +25,6 @@ import numpy as np
 
 from hw.interfaces import LidarScan
 from nav.costmap.config import CostmapsConfig
-from nav.costmap.deltas import ChangeLog, Changes
 from nav.costmap.grid import FREE, UNKNOWN, CostGrid
 from nav.costmap.inflation import InflationLayer
 from nav.costmap.obstacle import ObstacleLayer
@@ -39,17 +38,12 @@ class Costmap:
         self.obstacle, self.inflation, self.static = obstacle, inflation, static
         self.rolling = rolling
         self._grid = frame.copy()
-        self._changes = ChangeLog()
         self._rebuild()
 
     @property
     def grid(self) -> CostGrid:
         """The master (inflated) grid. A new object after every change: hold it, it will not move."""
         return self._grid
-
-    @property
-    def version(self) -> int:
-        return self._changes.version
 
     def update(self, scan: LidarScan, sensor_pose: tuple[float, float, float], robot_xy: tuple[float, float]) -> None:
         """Mark and clear from one scan; ``sensor_pose`` is the lidar in this map's frame."""
@@ -73,10 +67,6 @@ class Costmap:
         self.static.set_map(occupancy, resolution, origin_x, origin_y, self.obstacle.grid)
         self._rebuild()
 
-    def changes_since(self, version: int) -> Changes:
-        """What changed after ``version`` (-1: everything), see ``nav.costmap.deltas``."""
-        return self._changes.since(version, self._grid)
-
     # -- internals -----------------------------------------------------------------------------
 
     def _follow(self, robot_xy: tuple[float, float]) -> None:
@@ -97,9 +87,7 @@ class Costmap:
         seen = layer.data != UNKNOWN
         take = seen & ((master == UNKNOWN) | (layer.data > master))
         master[take] = layer.data[take]
-        new = CostGrid(self.inflation.apply(master), layer.resolution, layer.origin_x, layer.origin_y)
-        self._changes.record(self._grid, new)
-        self._grid = new
+        self._grid = CostGrid(self.inflation.apply(master), layer.resolution, layer.origin_x, layer.origin_y)
 
 
 def _inflation(cfg: CostmapsConfig) -> InflationLayer:

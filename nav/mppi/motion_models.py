@@ -68,10 +68,6 @@ class OmniModel:
                  np.float32(pose[0]), np.float32(pose[1]), np.float32(pose[2]),
                  out_v[0], out_v[1], out_v[2], out_traj[0], out_traj[1], out_traj[2])
 
-    def constrain(self, u: np.ndarray) -> np.ndarray:
-        """Clip a (T, 3) control sequence to the velocity limits."""
-        return np.clip(u, self.lo, self.hi)
-
 
 class DiffDriveModel(OmniModel):
     """vy pinned to zero: every trajectory is a forward or backward arc."""

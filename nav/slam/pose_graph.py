@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from hw.odometry import Pose2D
+from hw.odometry import Pose2D, wrap_angles
 
 SOLVER_OPTIONS = {"ipopt.print_level": 0, "ipopt.sb": "yes", "print_time": 0, "ipopt.max_iter": 100,
                   "ipopt.tol": 1e-10}
@@ -71,7 +71,7 @@ class PoseGraph:
         solver = ca.nlpsol("pose_graph", "ipopt", {"x": ca.vec(free), "f": cost}, SOLVER_OPTIONS)
         sol = solver(x0=ca.DM(self.poses[1:].T.ravel(order="F")))
         x = np.array(sol["x"]).reshape((3, n - 1), order="F").T
-        x[:, 2] = np.arctan2(np.sin(x[:, 2]), np.cos(x[:, 2]))
+        x[:, 2] = wrap_angles(x[:, 2])
         self.poses = np.vstack([self.poses[:1], x])
         return float(sol["f"])
 

@@ -101,7 +101,7 @@ def test_map_show_writes_nothing_when_the_output_directory_is_missing(capsys, tm
 
 
 @pytest.mark.parametrize("argv, needle", [
-    (["map", "show", "missing.yaml"], "does not exist"),
+    (["map", "show", "missing.yaml"], "map file not found"),
     (["map", "show", "BAD"], "not valid YAML"),
     (["map", "show", "NOIMAGE"], "image: "),
     (["map", "show", "GOOD", "-o", "x.jpg"], "must be a .png"),

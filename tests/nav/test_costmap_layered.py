@@ -1,5 +1,5 @@
 """The layered costmap: the local rolling window, the global map with its static layer,
-clearing, and incremental deltas that reproduce the grid."""
+and clearing."""
 from __future__ import annotations
 
 import numpy as np
@@ -7,7 +7,6 @@ import pytest
 
 from hw.interfaces import LidarScan
 from nav.costmap.config import CostmapsConfig
-from nav.costmap.deltas import TILE, apply_changes
 from nav.costmap.grid import FREE, INSCRIBED, LETHAL, UNKNOWN
 from nav.costmap.layered import global_costmap, local_costmap
 from tests.nav.builders import greenhouse_occupancy, scan_from_occupancy
@@ -112,49 +111,3 @@ def test_clear_forgets_observations_but_keeps_the_map():
     assert np.all(local.grid.data == FREE)
     with pytest.raises(ValueError, match="no static layer"):
         local.set_static(OCC, 0.05, 0.0, 0.0)
-
-
-def test_deltas_applied_to_an_old_copy_reproduce_the_global_grid():
-    glob = global_costmap(CFG)
-    consumer = apply_changes(None, glob.changes_since(-1), CFG.resolution)
-    have = glob.version
-    box = OCC.copy()
-    box[8:12, 60:64] = 100
-    sent = full = 0
-    for i, (x, occ) in enumerate([(1.0, OCC), (1.5, OCC), (2.0, box), (2.5, box), (2.5, box)]):
-        glob.update(scan_from_occupancy(occ, 0.05, (x, 0.5, 0.0)), (x, 0.5, 0.0), (x, 0.5))
-        if i % 2:  # a consumer that polls at half the rate
-            continue
-        ch = glob.changes_since(have)
-        assert not ch.full
-        consumer = apply_changes(consumer, ch, CFG.resolution)
-        have = ch.version
-        assert np.array_equal(consumer.data, glob.grid.data)
-        sent += sum(block.size for _, _, block in ch.regions)
-        full += glob.grid.data.size
-    assert sent < full / 4  # the changed tiles are a small part of the 24 x 24 m map
-    ch = glob.changes_since(have)  # the last, identical scan changed nothing
-    assert ch.version == have and ch.regions == []
-
-
-def test_a_moved_window_or_a_consumer_too_far_behind_gets_the_full_grid():
-    local = local_costmap(CFG)
-    local.update(scan_at(1.0, 0.5), (1.0, 0.5, 0.0), (1.0, 0.5))
-    v = local.version
-    local.update(scan_at(1.2, 0.5), (1.2, 0.5, 0.0), (1.2, 0.5))
-    ch = local.changes_since(v)
-    assert ch.full and ch.origin == (local.grid.origin_x, local.grid.origin_y)
-    got = apply_changes(None, ch, CFG.resolution)
-    assert np.array_equal(got.data, local.grid.data) and got.origin_x == local.grid.origin_x
-    glob = global_costmap(CFG)
-    for k in range(70):  # more versions than the log keeps
-        glob.update(scan_at(1.0 + 0.05 * (k % 40), 0.5), (1.0 + 0.05 * (k % 40), 0.5, 0.0), (1.0, 0.5))
-    assert glob.changes_since(0).full and not glob.changes_since(glob.version - 1).full
-
-
-def test_regions_are_whole_tiles_in_row_runs():
-    glob = global_costmap(CFG)
-    v = glob.version
-    glob.update(scan_at(1.0, 0.5), (1.0, 0.5, 0.0), (1.0, 0.5))
-    for x0, y0, block in glob.changes_since(v).regions:
-        assert x0 % TILE == 0 and y0 % TILE == 0 and block.shape[0] <= TILE and block.shape[1] % TILE == 0

@@ -184,5 +184,11 @@ def test_an_unreadable_image_is_an_input_error(tmp_path, monkeypatch):
 
 
 def test_a_missing_map_file_names_it(tmp_path):
-    with pytest.raises(InputError, match="does not exist"):
+    with pytest.raises(InputError, match="nope.yaml: map file not found"):
         load_map(tmp_path / "nope.yaml")
+
+
+def test_a_duplicate_key_in_a_map_file_is_refused_not_silently_overridden(tmp_path):
+    (tmp_path / "m.yaml").write_text("image: m.pgm\nresolution: 0.05\nresolution: 0.1\norigin: [0, 0, 0]\n")
+    with pytest.raises(InputError, match="duplicate key 'resolution'"):
+        load_map(tmp_path / "m.yaml")
