@@ -22,7 +22,8 @@ import math
 import random
 
 from hw.errors import InputError
-from sim.world import TAG_IDS, Climate, Floor, Pose2, Pot, World, validate_world
+from hw.tag_family import TAG_IDS
+from sim.world import Climate, Floor, Pose2, Pot, World, validate_world
 
 MAX_ROWS = 40
 """Largest --rows (and --pots-per-row) accepted: a 40 x 40 m greenhouse is already far beyond

@@ -21,33 +21,20 @@ Public API: :class:`World` and its parts, :func:`load_world`, :func:`parse_world
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Any, Literal
 
 import yaml
-from pydantic import AfterValidator, Field, ValidationError
+from pydantic import Field, ValidationError
 
 from hw.errors import InputError
 from hw.input_file import StrictEntry, error_lines, kind_of, read_yaml
+from hw.tag_family import TagId
 from sim.config import GreenhouseGeometry
 from sim.world_checks import ROBOT_RADIUS, world_problems
 
 DEFAULT_WORLD: Path = Path(__file__).resolve().parent / "worlds" / "default.yaml"
 """The built-in greenhouse (3 rows of 4 pots), found next to this module so it also works
 when Lupin is installed rather than run from a checkout."""
-
-TAG_IDS = range(0, 587)
-"""AprilTag 36h11 has 587 codes, ids 0..586. The original robot whitelisted 0..21
-(reference/upstream.md) but any valid id of the family can be printed on a plate."""
-
-
-def _in_family(tag: int) -> int:
-    if tag not in TAG_IDS:
-        raise ValueError(f"must be an AprilTag 36h11 id, 0..{TAG_IDS[-1]} (got {tag})")
-    return tag
-
-
-TagId = Annotated[int, AfterValidator(_in_family)]
-"""A tag id field of a world or mission file: any id of the 36h11 family."""
 
 FLOWERS = ("red", "white", "pink", "none")
 """Flower classes of the HSV detector (reference/upstream.md), plus ``none``: a pot without
@@ -145,6 +132,10 @@ class World(StrictEntry):
     """Optional extra boxes standing on the floor."""
     climate: dict[int, Climate] = {}
     """Optional climate readings keyed by tag id; every key must be a tag that some pot carries."""
+
+    def climate_readings(self) -> dict[int, dict[str, float]]:
+        """The climate table as a greenhouse data source hands it out: per tag, the known fields."""
+        return {tag: c.model_dump(exclude_none=True) for tag, c in self.climate.items()}
 
 
 # ---------------------------------------------------------------------------------------------

@@ -17,7 +17,8 @@ from pathlib import Path
 import numpy as np
 
 from lupin.bench import Sample, benchmark
-from mission.jobs.serve import run_service, start_sim_service
+from mission.jobs.serve import run_service
+from mission.jobs.sim_serve import start_sim_service
 from mission.link.client import LinkClient
 from mission.link.server import LinkServer, free_endpoint
 from mission.runtime.config import LupinConfig, with_overrides

@@ -15,7 +15,8 @@ import time
 from pathlib import Path
 
 from lupin.bench import Sample, benchmark
-from mission.jobs.patrol import run_to_end, start_sim_patrol
+from mission.jobs.patrol import run_to_end
+from mission.jobs.sim_patrol import start_sim_patrol
 from mission.patrol.mission_file import mission_from_world
 from mission.runtime.config import LupinConfig, with_overrides
 from sim.generate import generate_world

@@ -75,8 +75,7 @@ def patrol(
     record: bool = typer.Option(False, "--record", help="Also record the run for Foxglove: run.mcap beside the report."),
 ) -> None:
     """Run a scripted patrol mission to its end and write the report."""
-    from mission.jobs.patrol import run_to_end, start_hw_patrol, start_sim_patrol
-    from mission.patrol.events_file import load_events
+    from mission.jobs.patrol import run_to_end, start_hw_patrol
     from mission.patrol.mission_file import load_mission, mission_from_world
 
     config = run_config(ctx) if seed is None else with_seed(run_config(ctx), seed)
@@ -88,13 +87,17 @@ def patrol(
         if events is not None:
             raise InputError("lupin patrol --backend hw: --events scripts faults into the sim; it does not drive the robot")
         m = load_mission(mission)
-    else:
+        check_report(report)  # every input checked; only now does anything start
+        run = start_hw_patrol(m, config, report, time.perf_counter)
+    else:  # the sim path: only here is the simulator loaded
+        from mission.jobs.sim_patrol import start_sim_patrol
+        from mission.patrol.events_file import load_events
+
         w = world_or_default(world)
         m = mission_from_world(w) if mission is None else load_mission(mission)
-    script = [] if events is None else load_events(events, config)
-    check_report(report)  # every input checked; only now does anything start
-    run = (start_hw_patrol(m, config, report, time.perf_counter) if backend is Backend.hw
-           else start_sim_patrol(w, m, config, report, time.perf_counter, script))
+        script = [] if events is None else load_events(events, config)
+        check_report(report)
+        run = start_sim_patrol(w, m, config, report, time.perf_counter, script)
     if record:
         from mission.record.mcap_file import record_patrol
 

@@ -38,7 +38,7 @@ def serve(
                                                 "given without one; 0: any free port)."),
 ) -> None:
     """Run the robot runtime as a service that consoles attach to."""
-    from mission.jobs.serve import run_service, start_hw_service, start_sim_service
+    from mission.jobs.serve import run_service, start_hw_service
     from mission.link.server import LinkServer, check_endpoint
 
     config = run_config(ctx)
@@ -48,6 +48,8 @@ def serve(
             raise InputError("lupin serve --backend hw: --world and --fast are for the sim")
         service = start_hw_service(config, runs, time.perf_counter)
     else:
+        from mission.jobs.sim_serve import start_sim_service  # the robot's service never loads the simulator
+
         config = with_overrides(config, {"sim": {"realtime": not fast}})
         w = world_or_default(world)  # checked before anything starts
         service = start_sim_service(w, config, runs, time.perf_counter)

@@ -5,24 +5,23 @@ the scheduler at ``patrol.tick_rate``, and the report directory: ``config.yaml``
 a run killed at once says how it was configured), ``report.json`` rewritten after every pot with
 the pot's images, and at the end ``map.yaml``/``map.pgm`` (SLAM's map) and ``run.png``.
 
-On the sim, ground truth is used for judging only: each pot's ``truth_error``.
+On the sim, ground truth is used for judging only: each pot's ``truth_error``
+(:mod:`mission.jobs.sim_patrol`; this module never imports the simulator).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 from py_trees.common import Status
 
 from hw.atomic_file import write_atomic, write_png
 from hw.odometry import Pose2D
-from mission.jobs.events import EventPlayer
-from mission.jobs.navigate import NavigateRun, start_navigate
-from mission.patrol.climate import ClimateSource, NoClimate, WorldClimate
+from mission.patrol.climate import ClimateSource, NoClimate
 from mission.patrol.mission_file import Mission
-from mission.patrol.report import PatrolReport, pose_error
+from mission.patrol.report import PatrolReport
 from mission.patrol.run_picture import PotMark, draw_run
 from mission.patrol.tree import PatrolTree
 from mission.runtime.config import LupinConfig, save_config
@@ -33,22 +32,15 @@ from nav.map_io import save_map
 from nav.navigator import Navigator
 from nav.occupancy import OccupancyMap
 from perception.camera_pipeline import camera_pipelines
-from perception.config import CameraModelConfig, PerceptionConfig
+from perception.config import PerceptionConfig
 from perception.tag_reader import TagReader
-from sim.world import World
+
+if TYPE_CHECKING:  # the sim path's parts, named only in annotations
+    from mission.jobs.events import EventPlayer
+    from mission.jobs.navigate import NavigateRun
 
 TRACE_RATE = 10.0
 """The driven path (the robot's map pose) is sampled at the lidar's 10 Hz for the picture."""
-
-
-def sim_perception(config: LupinConfig) -> PerceptionConfig:
-    """Perception with the sim cameras' intrinsics (their size and field of view): in the sim
-    the camera *is* its model, so the tag reader's K comes from there, not from a copy."""
-    cam = config.sim.camera
-    front = CameraModelConfig(width=cam.width, height=cam.height, fovy_deg=cam.front_fovy_deg)
-    wrist = CameraModelConfig(width=cam.width, height=cam.height, fovy_deg=cam.wrist_fovy_deg)
-    p = config.perception
-    return p.model_copy(update={"tag": p.tag.model_copy(update={"camera": front}), "wrist_camera": wrist})
 
 
 def reading_mission_tags(perception: PerceptionConfig, mission: Mission) -> PerceptionConfig:
@@ -68,9 +60,9 @@ class PatrolRun:
     close: Callable[[], None]
     path: list[tuple[float, float]] = field(default_factory=list)
     """The robot's map pose as it believed it, at 10 Hz."""
-    sim: NavigateRun | None = None
+    sim: "NavigateRun | None" = None
     """The sim under it, for judging only (truth); None on the robot."""
-    events: EventPlayer | None = None
+    events: "EventPlayer | None" = None
     """The events file being played into the sim run, if any."""
 
     @property
@@ -167,24 +159,6 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
 
     robot.scheduler.every("mission", config.patrol.tick_rate, tick)
     return run
-
-
-def start_sim_patrol(world: World, mission: Mission, config: LupinConfig, report_path: Path,
-                     wall_now: Callable[[], float], events: list = ()) -> PatrolRun:
-    """The patrol on the simulated greenhouse: the world's climate, truth for judging, and the
-    events file's actions (``mission.jobs.events``) on the runtime clock from the start."""
-    sim_run = start_navigate(world, config)
-
-    def truth_error(goal: Pose2D) -> dict[str, float]:
-        return pose_error(sim_run.to_map(sim_run.sim.truth()), goal)
-
-    def play(run: PatrolRun) -> None:
-        run.sim = sim_run
-        run.events = EventPlayer(run.robot, run.nav, run.tree.holds, sim_run.sim.faults)
-        run.events.schedule(list(events), run.report.t0)
-
-    return start_patrol(sim_run.robot, sim_run.nav, mission, config, sim_perception(config), report_path, wall_now,
-                        sim_run.close, WorldClimate(world), truth_error, play)
 
 
 def start_hw_patrol(mission: Mission, config: LupinConfig, report_path: Path,

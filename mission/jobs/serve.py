@@ -21,22 +21,20 @@ from arm.presets import UnknownPreset
 from hw.errors import InputError
 from hw.interfaces import Twist
 from hw.odometry import Pose2D
-from mission.jobs.patrol import PatrolRun, sim_perception, start_patrol
+from mission.jobs.patrol import PatrolRun, start_patrol
 from mission.link.commands import CommandRefused
-from mission.patrol.climate import ClimateSource, NoClimate, WorldClimate
-from mission.patrol.mission_file import Mission, mission_from_world, parse_mission
+from mission.patrol.climate import ClimateSource, NoClimate, TableClimate
+from mission.patrol.mission_file import Mission, parse_mission
 from mission.patrol.report import pose_error
 from mission.runtime.config import LupinConfig
 from mission.runtime.heal import heal_controllers
 from mission.runtime.navigation import attach_navigation, clear_map
 from mission.runtime.hw_runtime import start_hw_runtime
 from mission.runtime.robot import Robot
-from mission.runtime.sim_runtime import start_sim_runtime
 from nav.frames import compose, inverse
 from nav.navigator import Navigator
 from perception.camera_pipeline import CameraPipeline, camera_pipelines
 from perception.config import PerceptionConfig
-from sim.world import World
 
 log = logging.getLogger("lupin")
 
@@ -186,17 +184,3 @@ def start_hw_service(config: LupinConfig, runs: Path, wall_now: Callable[[], flo
 
     return Service(rt.robot, rt.nav, config, config.perception, Path(runs), wall_now, no_default,
                    close_backend=rt.backend.close)
-
-
-def start_sim_service(world: World, config: LupinConfig, runs: Path, wall_now: Callable[[], float]) -> Service:
-    """The service on the simulated greenhouse: the world's climate, truth for judging pots."""
-    rt = start_sim_runtime(world, config)
-    nav = attach_navigation(rt.robot)
-    dock = inverse(Pose2D(world.spawn.x, world.spawn.y, world.spawn.yaw))
-
-    def truth_error(goal: Pose2D) -> dict[str, float]:
-        return pose_error(compose(dock, rt.sim.truth()), goal)
-
-    return Service(rt.robot, nav, config, sim_perception(config), Path(runs), wall_now, lambda: mission_from_world(world),
-                   WorldClimate(world), truth_error, rt.sim.close)
-

@@ -1,11 +1,10 @@
 """Climate sources: readings keyed by tag id (the original's "climate data" per tag record,
-reference/upstream.md). The sim's source reads the world file's ``climate`` section; a robot
-without a greenhouse data source uses :class:`NoClimate`."""
+reference/upstream.md). A greenhouse data source is a table of readings per tag
+(:class:`TableClimate`; the sim's is the world file's ``climate`` section); a robot without one
+uses :class:`NoClimate`."""
 from __future__ import annotations
 
-from typing import Protocol
-
-from sim.world import World
+from typing import Mapping, Protocol
 
 
 class ClimateSource(Protocol):
@@ -18,9 +17,11 @@ class NoClimate:
         return None
 
 
-class WorldClimate:
-    def __init__(self, world: World):
-        self._table = {tag: c.model_dump(exclude_none=True) for tag, c in world.climate.items()}
+class TableClimate:
+    """Readings per tag id; each reading holds only the fields known (no None values)."""
+
+    def __init__(self, table: Mapping[int, Mapping[str, float]]):
+        self._table = {int(tag): dict(r) for tag, r in table.items()}
 
     def reading(self, tag: int) -> dict[str, float] | None:
         found = self._table.get(tag)

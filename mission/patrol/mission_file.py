@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Any, Literal, Optional
+from typing import TYPE_CHECKING, Any, Literal, Optional
 
 import yaml
 from pydantic import Field, ValidationError
@@ -23,9 +23,12 @@ from pydantic import Field, ValidationError
 from hw.errors import InputError
 from hw.input_file import StrictEntry, error_lines, kind_of, read_yaml
 from hw.odometry import Pose2D
+from hw.tag_family import TagId
 from mission.approach import STANDOFF, approach_pose
 from nav.frames import compose, inverse
-from sim.world import TagId, World
+
+if TYPE_CHECKING:  # only named: a mission file never needs the simulator
+    from sim.world import World
 
 
 class Home(StrictEntry):

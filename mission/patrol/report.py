@@ -104,8 +104,9 @@ class PatrolReport:
                 anomalies.append(("no_tag", f"no tag within {self.config.tag_max_distance:g} m of the front camera"))
             elif pot.tag is not None and tag.id != pot.tag:
                 anomalies.append(("tag_mismatch", f"expected tag {pot.tag}, read {tag.id}"))
-        key = entry["tag_read"] if entry["tag_read"] is not None else pot.tag
-        climate = self.climate.reading(key) if key is not None else None
+        # keyed by the tag read, never the tag the mission expects: a pot whose tag was not read
+        # (or a pot swapped for another) must not be given another plant's climate
+        climate = self.climate.reading(entry["tag_read"]) if entry["tag_read"] is not None else None
         if climate:
             entry["climate"] = climate
         for name, frame in (("front", visit.front), ("wrist", visit.wrist)):

@@ -15,7 +15,8 @@ from typing import Callable
 import numpy as np
 
 from arm.presets import ARM_JOINTS, PRESETS
-from mission.jobs.patrol import PatrolRun, run_to_end, start_sim_patrol
+from mission.jobs.patrol import PatrolRun, run_to_end
+from mission.jobs.sim_patrol import start_sim_patrol
 from mission.scenario.judge import MotionLog, Press, estop_figures
 from mission.scenario.scenario_file import Expect, PotsExpect, Scenario
 

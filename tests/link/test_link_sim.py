@@ -14,7 +14,8 @@ import zenoh
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from mission.jobs.serve import run_service, start_sim_service
+from mission.jobs.serve import run_service
+from mission.jobs.sim_serve import start_sim_service
 from mission.link.client import LinkClient
 from mission.link.server import LinkServer, free_endpoint, session_config
 from mission.link.telemetry import TOPICS

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from hw.interfaces import DeviceError
-from mission.jobs.patrol import start_sim_patrol
+from mission.jobs.sim_patrol import start_sim_patrol
 from nav.navigator import State
 from mission.patrol.events_file import parse_events
 from mission.patrol.mission_file import mission_from_world

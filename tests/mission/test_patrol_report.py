@@ -9,7 +9,7 @@ import pytest
 
 from behaviours.visit import PotVisit
 from hw.odometry import Pose2D
-from mission.patrol.climate import NoClimate, WorldClimate
+from mission.patrol.climate import NoClimate, TableClimate
 from mission.patrol.config import PatrolConfig
 from mission.patrol.mission_file import parse_mission
 from mission.patrol.report import PatrolReport, tag_in_map
@@ -39,7 +39,7 @@ def bloom(cls="red", bug=False):
 def report(tmp_path):
     mission = parse_mission(MISSION, "unit.yaml")
     clock = {"t": 10.0}
-    r = PatrolReport(tmp_path / "report.json", mission, PatrolConfig(), WorldClimate(load_default_world()),
+    r = PatrolReport(tmp_path / "report.json", mission, PatrolConfig(), TableClimate(load_default_world().climate_readings()),
                      lambda: clock["t"], lambda: 0.0, lambda: 3.5, lambda goal: {"xy": 0.01, "yaw": 0.0})
     return r, mission
 
@@ -74,6 +74,16 @@ def test_each_anomaly_rule(report):
     r.record(m.pots[1], v, Pose2D(2.0, 0.0, 1.5708))
     assert kinds(r, "P02") == ["no_bloom", "no_tag"]
     assert r.pots["P02"]["tag_read"] is None
+
+
+def test_climate_is_keyed_by_the_tag_read_only(report):
+    """A pot whose tag was not read gets no climate, not its expected tag's; a swapped pot gets
+    the climate of the tag it carries."""
+    r, m = report
+    r.record(m.pots[0], visited(tags=()), Pose2D(1.0, 0.0, 1.5708))
+    assert r.pots["P01"]["tag_read"] is None and "climate" not in r.pots["P01"]
+    r.record(m.pots[0], visited(tags=(tag(4, 0.27),)), Pose2D(1.0, 0.0, 1.5708))  # P01 expects tag 1
+    assert r.pots["P01"]["climate"]["temperature"] == 23.1  # tag 4's, not tag 1's 22.5
 
 
 def test_arm_unavailable_still_reads_the_tag(report):

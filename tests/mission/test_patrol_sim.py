@@ -16,7 +16,8 @@ import cv2
 import pytest
 
 from arm.presets import preset
-from mission.jobs.patrol import PatrolRun, run_to_end, start_sim_patrol
+from mission.jobs.patrol import PatrolRun, run_to_end
+from mission.jobs.sim_patrol import start_sim_patrol
 from mission.patrol.mission_file import Mission, mission_from_world
 from mission.runtime.config import load_config
 from nav.map_io import load_map

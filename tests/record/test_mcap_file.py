@@ -11,7 +11,8 @@ from pathlib import Path
 
 import pytest
 
-from mission.jobs.patrol import PatrolRun, run_to_end, start_sim_patrol
+from mission.jobs.patrol import PatrolRun, run_to_end
+from mission.jobs.sim_patrol import start_sim_patrol
 from mission.patrol.mission_file import Mission, mission_from_world
 from mission.record.channels import GRID_BEAT, PLAN_BEAT, RATE, STATE_BEAT, STATUS_COLOURS
 from mission.record.mcap_file import record_patrol
