@@ -2,7 +2,7 @@
 
 ``initialise`` hands the goal to the navigator (the goal is a callable, read when the attempt
 starts, so a retry re-reads it); ``update`` mirrors the navigator's state; ``terminate(INVALID)``
-(a timeout above it, an abort, the e-stop guard of a later issue) cancels the goal, so the
+(a timeout above it, an abort, the e-stop or pause guard) cancels the goal, so the
 ``auto`` source stops publishing and the mux lets the wheels stop. The attempt's time limit is
 the ``Timeout`` decorator's, not the navigator's: the goal is given with no deadline of its own.
 """

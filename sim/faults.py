@@ -1,6 +1,6 @@
 """Run-time fault injection for the simulated robot (spec/events.md names the actions).
 
-Each method is one fault a later events file or scenario test can script: the sim must be
+Each method is one fault an events file or a scenario can script: the sim must be
 able to misbehave the way the seed says the robot does.
 """
 from __future__ import annotations

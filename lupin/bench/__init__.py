@@ -1,9 +1,10 @@
 """`lupin bench`: the project's benchmark harness.
 
 A benchmark is a function ``(config) -> Sample`` registered under a dotted name
-("sim.realtime"); ``lupin bench sim`` runs every benchmark in the ``sim`` group. Each group
-lives in a module of this package named after it (``lupin/bench/sim.py``, ``nav.py``, ...),
-so benchmarks may use any layer below the mission and no lower package imports this one. Each reports
+("sim.realtime"); ``lupin bench sim`` runs every benchmark in the ``sim`` group, ``lupin bench
+nav`` every ``nav.*``. Each module of this package registers the benchmarks of one group or part
+of one (``sim.py``; ``nav_mppi.py``, ``nav_costmap.py`` and ``nav_approach.py`` for ``nav``), so
+benchmarks may use any layer, the simulator included, and no lower package imports this one. Each reports
 the median and p95 of its samples in milliseconds plus its own figures (a real-time factor,
 say). Wall time is read here, in the harness, never in the runtime or in tests.
 """

@@ -3,7 +3,7 @@
 The one place that joins the two: the services get the sim's HAL (and its clock), and the
 sim's fault hooks get the runtime's controller manager, so a scripted "controller comes up
 broken" reaches the same manager the base controller consults. Everything that runs on the
-sim (the drive job, scenario tests, later the patrol) starts here.
+sim (the drive and navigate jobs, the patrol, the service, scenarios) starts here.
 """
 from __future__ import annotations
 
