@@ -11,6 +11,13 @@ The layout repeats the built-in greenhouse (sim/worlds/default.yaml), so
 - open cross aisles of 1.9 m (>= 1.5 m even with jitter) at both ends for turning;
 - spawn at the west end of the south aisle, looking east.
 
+With ``bays`` > 1 (a commercial greenhouse's layout), that bay repeats eastwards, the bays side
+by side along the rows, each behind a divider wall (a 0.1 m thick, 2 m tall box across the whole
+floor standing in the middle of the 3.8 m between two bays' pot rows) with a 1.2 m doorway at the south end,
+one at the north end and one every ``DOOR_SPACING`` metres between: the robot crosses from bay
+to bay through the cross aisles, so a long greenhouse is also a test of planning through
+doorways and of SLAM in rooms joined by narrow gaps.
+
 Each pot gets a unique tag (1, 2, 3, ...: AprilTag 36h11 has ids 0..586, so at most 586
 pots), a seeded flower colour, 1..3 blooms and a climate reading; with 3 or more pots at least
 one pot has no bloom (``none``) and at least one has a pest (``bug``), as the spec asks ("some
@@ -23,7 +30,7 @@ import random
 
 from hw.errors import InputError
 from hw.tag_family import TAG_IDS
-from sim.world import Climate, Floor, Pose2, Pot, World, validate_world
+from sim.world import Climate, Floor, Obstacle, Pose2, Pot, World, validate_world
 
 MAX_ROWS = 40
 """Largest --rows (and --pots-per-row) accepted: a 40 x 40 m greenhouse is already far beyond
@@ -47,22 +54,35 @@ stay >= 1.5 m wide."""
 SPAWN = (1.0, 0.5, 0.0)
 """Robot start (x, y, yaw): the west end of the south aisle, looking east along it."""
 
+MAX_BAYS = 10
+"""Largest --bays accepted (ten 16 m bays: a 160 m greenhouse)."""
+DIVIDER_THICKNESS, DIVIDER_HEIGHT = 0.1, 2.0
+"""A bay divider, m: a thin wall as tall as the outer walls."""
+DOOR_WIDTH = 1.2
+"""A doorway in a divider, m: the 0.44 m robot with its 0.25 m inflation on both sides and room
+to spare (a greenhouse door for carts is 1.2-1.5 m)."""
+DOOR_SPACING = 6.0
+"""Most a robot walks along a divider to reach a doorway, m: doorways at both ends and at least
+every this many metres between."""
+
 _SOUTH, _NORTH = -math.pi / 2, math.pi / 2
 
 
-def generate_world(rows: int, pots_per_row: int, seed: int, name: str | None = None) -> World:
-    """A valid world of ``rows`` x ``pots_per_row`` pots, the same for the same arguments.
+def generate_world(rows: int, pots_per_row: int, seed: int, name: str | None = None, bays: int = 1) -> World:
+    """A valid world of ``bays`` x ``rows`` x ``pots_per_row`` pots, the same for the same arguments.
 
-    Raises :class:`InputError` for sizes outside 1..40 or more pots than there are tag ids.
+    Raises :class:`InputError` for sizes outside 1..40 (bays 1..10) or more pots than there are
+    tag ids.
     """
-    for option, value in (("rows", rows), ("pots per row", pots_per_row)):
-        if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= MAX_ROWS:
-            raise InputError(f"{option} must be a whole number from 1 to {MAX_ROWS} (got {value!r})")
-    count = rows * pots_per_row
+    for option, value, most in (("rows", rows, MAX_ROWS), ("pots per row", pots_per_row, MAX_ROWS), ("bays", bays, MAX_BAYS)):
+        if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= most:
+            raise InputError(f"{option} must be a whole number from 1 to {most} (got {value!r})")
+    count = bays * rows * pots_per_row
     max_pots = len(TAG_IDS) - 1  # tags start at 1
     if count > max_pots:
+        bay_text = f"{bays} bays x " if bays > 1 else ""
         raise InputError(
-            f"{rows} rows x {pots_per_row} pots = {count} pots, but every pot needs its own "
+            f"{bay_text}{rows} rows x {pots_per_row} pots = {count} pots, but every pot needs its own "
             f"AprilTag 36h11 id and there are only {max_pots} (ids 1..{TAG_IDS[-1]}); generate fewer pots"
         )
     rng = random.Random(seed)
@@ -70,14 +90,15 @@ def generate_world(rows: int, pots_per_row: int, seed: int, name: str | None = N
     width = max(2, len(str(count)))
     pots: list[Pot] = []
     climate: dict[int, Climate] = {}
-    for row in range(rows):
+    bay_length = FIRST_POT_X + (pots_per_row - 1) * POT_PITCH + END_MARGIN
+    for bay, row in ((b, r) for b in range(bays) for r in range(rows)):
         facing = _SOUTH if row % 2 == 0 else _NORTH
         for col in range(pots_per_row):
             k = len(pots)
             tag = k + 1
             pots.append(Pot(
                 id=f"P{tag:0{width}d}",
-                x=round(FIRST_POT_X + col * POT_PITCH + rng.uniform(-JITTER, JITTER), 3),
+                x=round(bay * bay_length + FIRST_POT_X + col * POT_PITCH + rng.uniform(-JITTER, JITTER), 3),
                 y=FIRST_ROW_Y + row * ROW_PITCH,
                 facing=facing,
                 tag=tag,
@@ -86,18 +107,29 @@ def generate_world(rows: int, pots_per_row: int, seed: int, name: str | None = N
                 blooms=1 if flowers[k] == "none" else rng.randint(1, 3),
             ))
             climate[tag] = _climate(rng)
+    floor_y = FIRST_ROW_Y + (rows - 1) * ROW_PITCH + NORTH_MARGIN
     world = World(
-        name=name or f"generated-{rows}x{pots_per_row}-seed{seed}",
-        floor=Floor(
-            x=FIRST_POT_X + (pots_per_row - 1) * POT_PITCH + END_MARGIN,
-            y=FIRST_ROW_Y + (rows - 1) * ROW_PITCH + NORTH_MARGIN,
-        ),
+        name=name or (f"generated-{rows}x{pots_per_row}-seed{seed}" if bays == 1
+                      else f"generated-{bays}bays-{rows}x{pots_per_row}-seed{seed}"),
+        floor=Floor(x=bays * bay_length, y=floor_y),
         spawn=Pose2(x=SPAWN[0], y=SPAWN[1], yaw=SPAWN[2]),
         pots=pots,
+        obstacles=[box for b in range(1, bays) for box in _divider(b * bay_length, floor_y)],
         climate=climate,
     )
     validate_world(world, source=f"generated world {world.name!r}")  # a failure here is a bug
     return world
+
+
+def _divider(x: float, floor_y: float) -> list[Obstacle]:
+    """The wall across the floor at ``x``, as boxes between its doorways: one doorway at each
+    end of the wall and evenly spaced ones between, no two more than ``DOOR_SPACING`` apart."""
+    gaps = max(1, math.ceil((floor_y - DOOR_WIDTH) / DOOR_SPACING))  # spacing between first and last doorway
+    doors = [DOOR_WIDTH / 2 + k * (floor_y - DOOR_WIDTH) / gaps for k in range(gaps + 1)]
+    edges = [0.0] + [e for c in doors for e in (c - DOOR_WIDTH / 2, c + DOOR_WIDTH / 2)] + [floor_y]
+    segments = [(a, b) for a, b in zip(edges[::2], edges[1::2]) if b - a > 1e-6]
+    return [Obstacle(x=x, y=round((a + b) / 2, 4), sx=DIVIDER_THICKNESS, sy=round(b - a, 4), h=DIVIDER_HEIGHT)
+            for a, b in segments]
 
 
 def _flower_mix(count: int, rng: random.Random) -> tuple[list[str], list[bool]]:

@@ -88,3 +88,11 @@ def test_bench_json_plumbing(capsys, monkeypatch):
     assert code == 0
     (row,) = [json.loads(line) for line in out.strip().splitlines()]
     assert row == {"name": "unit.fake", "median_ms": 2.5, "p95_ms": 3.85, "n": 4, "widgets": 7}
+
+
+def test_generate_bays(capsys, tmp_path):
+    out = tmp_path / "bays.yaml"
+    code, _, _ = run(capsys, "sim", "generate", "--rows", "2", "--pots-per-row", "3", "--seed", "5", "--bays", "2", "-o", str(out))
+    assert code == 0 and len(load_world(out).pots) == 12 and len(load_world(out).obstacles) >= 1
+    code, _, err = run(capsys, "sim", "generate", "--rows", "2", "--pots-per-row", "3", "--seed", "5", "--bays", "0")
+    assert code == 2 and "bays must be a whole number" in err

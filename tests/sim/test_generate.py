@@ -120,3 +120,45 @@ def test_impossible_sizes_are_refused(rows, per_row, text):
     with pytest.raises(InputError) as info:
         generate_world(rows, per_row, 0)
     assert text in str(info.value)
+
+
+def _inside(x: float, y: float, box) -> bool:
+    return abs(x - box.x) <= box.sx / 2 and abs(y - box.y) <= box.sy / 2
+
+
+@pytest.mark.parametrize(("bays", "rows", "per_row"), [(2, 6, 15), (3, 2, 4), (4, 14, 3)])
+def test_bays_stand_side_by_side_behind_dividers_with_doorways(tmp_path, bays, rows, per_row):
+    world = generate_world(rows, per_row, 4, bays=bays)
+    assert world_problems(world) == [] and len(world.pots) == bays * rows * per_row
+    one = generate_world(rows, per_row, 4)
+    length = one.floor.x
+    assert world.floor.x == pytest.approx(bays * length) and world.floor.y == one.floor.y
+    for b in range(bays):  # each bay has the one-bay layout, shifted east
+        xs = sorted(p.x for p in world.pots if b * length < p.x < (b + 1) * length)
+        assert len(xs) == rows * per_row and xs[0] - b * length >= 1.5 and (b + 1) * length - xs[-1] >= 1.5
+    walls = {round(o.x, 6) for o in world.obstacles}
+    assert walls == {round(b * length, 6) for b in range(1, bays)}
+    ys = [k * 0.05 for k in range(int(world.floor.y / 0.05) + 1)]
+    for x in walls:
+        wall = [o for o in world.obstacles if round(o.x, 6) == x]
+        assert all(o.h == 2.0 and o.sx == 0.1 for o in wall)
+        open_ = [y for y in ys if not any(_inside(x, y, o) for o in wall)]
+        assert open_[0] < 0.3 and open_[-1] > world.floor.y - 0.3  # a doorway at each end
+        runs, start = [], open_[0]  # doorways: runs of open y, each wide enough for the robot
+        for a, b in zip(open_, open_[1:] + [None]):
+            if b is None or b - a > 0.051:
+                runs.append((start, a))
+                start = b
+        assert all(hi - lo >= 1.1 for lo, hi in runs)
+        centres = [(lo + hi) / 2 for lo, hi in runs]  # never more than 6 m along the wall to a doorway
+        assert max(b - a for a, b in zip(centres, centres[1:])) <= 6.0 + 0.05
+    path = tmp_path / "bays.yaml"
+    path.write_text(dump_world(world))
+    assert load_world(path) == world and world.name == f"generated-{bays}bays-{rows}x{per_row}-seed4"
+
+
+def test_too_many_bays_or_pots_are_refused():
+    with pytest.raises(InputError, match="bays must be a whole number from 1 to 10"):
+        generate_world(2, 2, 0, bays=11)
+    with pytest.raises(InputError, match="3 bays x 10 rows x 20 pots = 600 pots"):
+        generate_world(10, 20, 0, bays=3)
