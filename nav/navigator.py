@@ -64,6 +64,9 @@ TERMINAL = (State.SUCCEEDED, State.FAILED, State.CANCELED)
 #: Least time between two replans triggered by a blocked path (the 1 Hz replan still runs): a
 #: plan the local costmap disagrees with is redone at once, but not on every 50 ms control tick.
 BLOCKED_REPLAN_GAP = 0.5
+#: Room the global costmap takes in round the robot and the goal before a plan, m: the planner's
+#: 0.5 m goal tolerance and the robot's footprint fit inside it.
+COVER_MARGIN = 1.0
 
 
 class Costmap(Protocol):
@@ -72,6 +75,8 @@ class Costmap(Protocol):
     def update(self, scan: LidarScan, sensor_pose: tuple[float, float, float], robot_xy: tuple[float, float]) -> None: ...
 
     def clear(self) -> None: ...
+
+    def cover(self, x0: float, y0: float, x1: float, y1: float) -> None: ...
 
 
 class Planner(Protocol):
@@ -247,10 +252,15 @@ class Navigator:
         if scan is None:
             return
         lidar = compose(base, self._lidar_mount)
+        m = COVER_MARGIN
+        costmap.cover(base.x - m, base.y - m, base.x + m, base.y + m)  # the global one must hold the robot
         costmap.update(scan, (lidar.x, lidar.y, lidar.yaw), (base.x, base.y))
 
     def _replan(self, now: float) -> bool:
         pose = self.map_pose()
+        m = COVER_MARGIN
+        self.global_costmap.cover(min(pose.x, self.goal.x) - m, min(pose.y, self.goal.y) - m,
+                                  max(pose.x, self.goal.x) + m, max(pose.y, self.goal.y) + m)
         try:
             self.path = self.planner.plan(self.global_costmap.grid, (pose.x, pose.y), (self.goal.x, self.goal.y))
         except PlanningError as exc:

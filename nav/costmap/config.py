@@ -30,17 +30,9 @@ class LocalCostmapConfig(Strict):
 
 
 class GlobalCostmapConfig(Strict):
-    """The fixed global map around the map origin, in ``map`` (static + obstacle + inflation)."""
+    """The global map in ``map`` (static + obstacle + inflation). It has no set size: it grows
+    to take in the map, the robot and each goal (``nav.costmap.layered``)."""
 
-    size_x: float = Field(24.0, gt=0)
-    """Extent along x, m. The map frame is the robot's start pose, so the map must reach from any
-    start to any goal in the largest greenhouse (the built-in one is 7 x 4 m): +-12 m."""
-    size_y: float = Field(24.0, gt=0)
-    """Extent along y, m (as ``size_x``)."""
-    origin_x: float = -12.0
-    """World x of the map's lower-left corner, m (centred on the map origin)."""
-    origin_y: float = -12.0
-    """World y of the map's lower-left corner, m."""
     obstacle_max_range: float = Field(5.0, gt=0)
     """Returns are marked up to this range, m (seed: global obstacle_max_range 5.0, which covers
     across-room geometry without the long-tail noise of raw 12 m returns)."""

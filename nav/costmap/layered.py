@@ -11,7 +11,11 @@ As Nav2's LayeredCostmap, each update runs the layers in order on a fresh master
 ``local_costmap`` is the seed's 3 x 3 m window in ``odom`` rolling with the robot: before each
 update it re-centres on the robot by whole cells (the window's corners stay on the world's
 0.05 m lattice, so its cells line up with the global map's), keeping the overlap; it starts free.
-``global_costmap`` has a fixed extent around the map origin and starts unknown. The master is
+``global_costmap`` starts as a small unknown patch around the map origin and grows, never
+shrinks: to take in the whole map whenever one arrives (as Nav2's static layer resizes the
+master to its map), and to take in the robot and each goal before a plan (``cover``), so a
+goal in unexplored ground is planned to through unknown space (allow_unknown) rather than
+being "outside the costmap". Its memory follows the greenhouse, not a worst-case square. The master is
 rebuilt in full every update: at 5 Hz on 60 x 60 cells and 1 Hz on 480 x 480 it costs less than
 the bookkeeping Nav2 uses to avoid it (see ``lupin bench nav.local_costmap``). Every change of
 the master moves ``version``; ``changes_since`` hands consumers the changed regions
@@ -29,6 +33,14 @@ from nav.costmap.grid import FREE, UNKNOWN, CostGrid
 from nav.costmap.inflation import InflationLayer
 from nav.costmap.obstacle import ObstacleLayer
 from nav.costmap.static import StaticLayer
+from nav.grid_geometry import GridGeometry, paste
+
+
+GROW_STEP = 64
+"""Cells the global costmap grows by on a side at a time (3.2 m at 0.05 m): it follows the map
+every few metres of new ground, not every second."""
+START_SIZE = 4.0
+"""Side of the global costmap before any map or goal, m."""
 
 
 class Costmap:
@@ -61,13 +73,32 @@ class Costmap:
         self._rebuild()
 
     def set_static(self, occupancy: np.ndarray, resolution: float, origin_x: float, origin_y: float) -> None:
-        """Feed the static layer a map_server occupancy grid (int8 [iy, ix], -1 unknown, 0..100)."""
+        """Feed the static layer a map_server occupancy grid (int8 [iy, ix], -1 unknown, 0..100);
+        the costmap grows to take the whole map in."""
         if self.static is None:
             raise ValueError("this costmap has no static layer (the local costmap is obstacle + inflation only)")
+        x0, x1, y0, y1 = GridGeometry.of(np.asarray(occupancy), resolution, origin_x, origin_y).extent
+        self._grow(x0, y0, x1, y1)
         self.static.set_map(occupancy, resolution, origin_x, origin_y, self.obstacle.grid)
         self._rebuild()
 
+    def cover(self, x0: float, y0: float, x1: float, y1: float) -> None:
+        """Grow, if need be, to take in the world box (the robot and a goal, with room round
+        them); a rolling window only follows the robot."""
+        if not self.rolling and self._grow(x0, y0, x1, y1):
+            self._rebuild()
+
     # -- internals -----------------------------------------------------------------------------
+
+    def _grow(self, x0: float, y0: float, x1: float, y1: float) -> bool:
+        old = self.obstacle.grid.geometry
+        new = old.grown_to_cover(x0, y0, x1, y1, GROW_STEP)
+        if new is old:
+            return False
+        self.obstacle.resize(new)
+        if self.static is not None and self.static.costs is not None:
+            self.static.costs = paste(self.static.costs, old, new, self.static.unknown)
+        return True
 
     def _follow(self, robot_xy: tuple[float, float]) -> None:
         g = self.obstacle.grid
@@ -112,10 +143,12 @@ def local_costmap(cfg: CostmapsConfig) -> Costmap:
 
 
 def global_costmap(cfg: CostmapsConfig) -> Costmap:
-    """The fixed map around the map origin (``map``), static + obstacle + inflation, starts unknown."""
+    """The growing map in ``map``, static + obstacle + inflation; starts as an unknown patch
+    ``START_SIZE`` across round the map origin."""
     gc, res = cfg.global_costmap, cfg.resolution
     default = UNKNOWN if gc.track_unknown_space else FREE
-    frame = CostGrid.filled(_cells(gc.size_x, res), _cells(gc.size_y, res), res, gc.origin_x, gc.origin_y, default)
+    start = GridGeometry.covering(-START_SIZE / 2, -START_SIZE / 2, START_SIZE / 2, START_SIZE / 2, res)
+    frame = CostGrid.filled(start.width, start.height, res, start.origin_x, start.origin_y, default)
     obstacle = ObstacleLayer(frame.copy(), cfg.obstacle_min_range, gc.obstacle_max_range, gc.raytrace_max_range,
                              gc.inf_is_valid)
     static = StaticLayer(gc.free_thresh, gc.occupied_thresh, gc.track_unknown_space)

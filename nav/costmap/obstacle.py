@@ -21,6 +21,7 @@ import numpy as np
 from hw.interfaces import LidarScan
 from nav.costmap.grid import FREE, LETHAL, CostGrid
 from nav.costmap.raytrace import clear_rays
+from nav.grid_geometry import GridGeometry
 
 log = logging.getLogger(__name__)
 
@@ -38,6 +39,10 @@ class ObstacleLayer:
 
     def shift(self, dx_cells: int, dy_cells: int) -> None:
         self.grid = self.grid.shifted(dx_cells, dy_cells, self.default)
+
+    def resize(self, geometry: GridGeometry) -> None:
+        """The same observations on a grown grid (one lattice); new cells unobserved."""
+        self.grid = self.grid.on(geometry, self.default)
 
     def update(self, scan: LidarScan, sensor_pose: tuple[float, float, float]) -> None:
         g = self.grid

@@ -13,10 +13,8 @@ from hw.config import Strict
 
 class SlamConfig(Strict):
     resolution: float = Field(0.05, gt=0)
-    """Map cell size, m (seed: slam_toolbox resolution 0.05, the map file's resolution)."""
-    size: tuple[float, float] = (24.0, 24.0)
-    """Map extent (x, y), m, centred on the map origin (the dock): the global costmap's extent,
-    so the SLAM map and the costmap's static layer line up cell for cell."""
+    """Map cell size, m (seed: slam_toolbox resolution 0.05, the map file's resolution). The map
+    has no set size: it grows as the robot explores (``nav.slam.grid``)."""
     min_range: float = Field(0.25, ge=0)
     """Returns closer than this are dropped, m (seed: below 0.25 m the lidar sees the robot's own
     gripper and arm; filtered in AMCL, slam_toolbox and both costmaps alike)."""

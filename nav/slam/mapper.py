@@ -67,8 +67,8 @@ class Mapper:
         self.odometry = LidarOdometry(cfg, start)
         self.graph = PoseGraph()
         self.loops = LoopCloser(cfg)
-        sx, sy = cfg.size
-        self.grid = LogOddsGrid(GridGeometry.covering(-sx / 2, -sy / 2, sx / 2, sy / 2, cfg.resolution))
+        self.grid = LogOddsGrid(GridGeometry.covering(start.x - 1.0, start.y - 1.0, start.x + 1.0, start.y + 1.0,
+                                                      cfg.resolution))  # it grows as the robot explores
         self.pose = start
         """The latest scan's ``base_link`` pose in ``map``."""
         self.map_to_odom = Pose2D()

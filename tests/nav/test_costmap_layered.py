@@ -23,8 +23,8 @@ def test_factories_follow_the_seed():
     local, glob = local_costmap(CFG), global_costmap(CFG)
     assert local.grid.data.shape == (60, 60) and local.grid.resolution == 0.05  # 3 x 3 m
     assert np.all(local.grid.data == FREE)
-    assert glob.grid.data.shape == (480, 480) and (glob.grid.origin_x, glob.grid.origin_y) == (-12.0, -12.0)
-    assert np.all(glob.grid.data == UNKNOWN)  # the global map tracks unknown space
+    assert glob.grid.data.shape == (80, 80) and (glob.grid.origin_x, glob.grid.origin_y) == (-2.0, -2.0)
+    assert np.all(glob.grid.data == UNKNOWN)  # the global map tracks unknown space; it grows (below)
     # the seed's ranges: local marks to 2.5 m and clears to 3.0 m, global 5.0 and 12.0, both drop < 0.25 m
     assert (local.obstacle.mark_range, local.obstacle.clear_range, local.obstacle.min_range) == (2.5, 3.0, 0.25)
     assert (glob.obstacle.mark_range, glob.obstacle.clear_range, glob.obstacle.min_range) == (5.0, 12.0, 0.25)
@@ -32,6 +32,7 @@ def test_factories_follow_the_seed():
 
 def test_the_global_map_marks_to_5_m_only():
     glob = global_costmap(CFG)
+    glob.cover(0.0, 0.0, 7.0, 4.0)  # the greenhouse
     glob.update(scan_at(0.5, 2.5), (0.5, 2.5, 0.0), (0.5, 2.5))
     g = glob.grid
     # Down the middle aisle the east wall is 6.5 m away: its cells are not marked, but the beams
@@ -67,6 +68,7 @@ def test_the_rolling_window_keeps_what_it_saw_in_world_coordinates():
 
 def test_scans_uncover_unknown_space_in_the_global_map():
     glob = global_costmap(CFG)
+    glob.cover(-1.0, -1.0, 7.0, 4.0)
     glob.update(scan_at(1.0, 0.5), (1.0, 0.5, 0.0), (1.0, 0.5))
     g = glob.grid
     assert g.cost_at(1.0, 0.5)[()] == FREE
@@ -111,3 +113,31 @@ def test_clear_forgets_observations_but_keeps_the_map():
     assert np.all(local.grid.data == FREE)
     with pytest.raises(ValueError, match="no static layer"):
         local.set_static(OCC, 0.05, 0.0, 0.0)
+
+
+def test_the_global_map_grows_to_take_in_the_map_and_a_goal_and_keeps_what_it_saw():
+    glob = global_costmap(CFG)
+    glob.cover(0.0, 0.0, 2.0, 1.5)
+    glob.update(scan_at(1.0, 0.5), (1.0, 0.5, 0.0), (1.0, 0.5))
+    seen = glob.grid.cost_at([1.0, 0.5], [0.02, 0.5])
+    assert seen.tolist() == [LETHAL, FREE]
+    big = np.zeros((200, 1200), np.int8)  # a free 60 x 10 m map reaching far east of the dock
+    big[100, 1100] = 100
+    glob.set_static(big, 0.05, -2.0, -3.0)
+    g = glob.grid
+    x0, x1, y0, y1 = g.geometry.extent
+    assert x0 <= -2.0 and x1 >= 58.0 and y0 <= -3.0 and y1 >= 7.0  # the whole map is in
+    assert g.cost_at(-2.0 + 1100 * 0.05 + 0.025, -3.0 + 100 * 0.05 + 0.025)[()] == LETHAL
+    assert glob.grid.cost_at([1.0, 0.5], [0.02, 0.5]).tolist() == [LETHAL, FREE]  # kept across the growth
+    glob.cover(80.0, 30.0, 81.0, 31.0)  # a goal beyond the map: in, unknown
+    assert glob.grid.cost_at(80.5, 30.5)[()] == UNKNOWN
+    assert glob.grid.geometry.extent[0] <= -2.0
+    before = glob.grid.geometry
+    glob.cover(0.0, 0.0, 1.0, 1.0)  # inside: nothing changes, it never shrinks
+    assert glob.grid.geometry == before
+
+
+def test_the_rolling_window_does_not_grow():
+    local = local_costmap(CFG)
+    local.cover(0.0, 0.0, 10.0, 10.0)
+    assert local.grid.data.shape == (60, 60)

@@ -26,6 +26,9 @@ class FakeCostmap:
     def clear(self):
         self.clears += 1
 
+    def cover(self, x0, y0, x1, y1):
+        self.covered = (x0, y0, x1, y1)
+
 
 class FakePlanner:
     def __init__(self, fail=False):

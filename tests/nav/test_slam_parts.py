@@ -52,11 +52,19 @@ def test_a_cell_hit_and_crossed_in_one_scan_counts_as_hit():
     assert occ.occupancy[iy[0], ix[0]] == 70
 
 
-def test_returns_outside_the_grid_are_ignored_and_clear_forgets():
+def test_the_grid_grows_on_the_lattice_to_take_a_far_return_and_clear_forgets():
     g = LogOddsGrid(GridGeometry.covering(-1.0, -1.0, 1.0, 1.0, RES))
-    g.integrate((0.0, 0.0), np.array([[5.0, 0.0]]))  # the beam leaves the grid
-    assert (g.occupancy().occupancy >= 65).sum() == 0 and (g.occupancy().occupancy == 0).sum() == 0
-    assert (g.occupancy().occupancy >= 0).sum() == 20
+    before = g.occupancy()
+    g.integrate((0.0, 0.0), np.array([[0.5, 0.0]]))
+    g.integrate((0.0, 0.0), np.array([[5.0, 0.0]]))  # the beam leaves the grid: it grows east
+    occ = g.occupancy()
+    assert g.geometry.grown_to_cover(-1.0, -1.0, 5.0, 1.0) is g.geometry  # it covers the return
+    dx, dy = before.geometry.offset_in(g.geometry)  # the old cells kept their place on the lattice
+    assert (dx, dy) == (0, 0) and g.geometry.width % 64 == 40 % 64 and g.geometry.height == 40
+    ix, iy = occ.geometry.cell_of([5.0, 0.5, 3.0], [0.0, 0.0, 0.0])
+    assert occ.occupancy[iy[0], ix[0]] == 70 and occ.occupancy[iy[1], ix[1]] == 61  # hit, then crossed (0.85 - 0.41 logit)
+    assert occ.occupancy[iy[2], ix[2]] == 40
+    assert (occ.occupancy >= 0).sum() == 101  # 100 cells crossed (0.05 m) + the hit
     g.clear()
     assert (g.occupancy().occupancy == UNKNOWN).all()
 

@@ -80,7 +80,7 @@ def test_a_one_cell_wall_and_a_lone_box_survive_downsampling():
 
 
 def test_the_window_fits_the_known_part_of_a_big_grid():
-    g = np.full((480, 480), -1, np.int8)  # the runtime's 24 x 24 m global grid, mostly unknown
+    g = np.full((480, 480), -1, np.int8)  # a 24 x 24 m grid, mostly unknown
     g[100:160, 100:200] = 0  # 5 x 3 m explored: x -7 .. -2, y -7 .. -4
     cv = map_pixels(RobotView(pose=(-4.5, -5.5, 0.0), grid=GridView(g, 0.05, -12.0, -12.0)), 80, 30)
     known = np.any(cv.rgb != UNKNOWN, axis=-1).mean()

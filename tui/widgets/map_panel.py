@@ -5,7 +5,7 @@ status and the robot with its heading, in half-block characters (two square pixe
 and tested without a terminal. The picture is one RGB array built with numpy:
 
 - the window fits what is known (the explored part of the map, the pots, the robot, the goal),
-  not the whole 24 x 24 m costmap, most of it unknown;
+  not the whole costmap, much of it unknown;
 - each pixel takes the *maximum* of the grid cells it covers (``np.maximum.reduceat`` along
   both axes), so a wall one cell thick or a lone box survives any zoom; in int8 order that is
   occupied > free > unknown, exactly the priority wanted. (Nearest-cell sampling drops most of
