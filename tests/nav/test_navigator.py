@@ -174,4 +174,5 @@ def test_a_robot_that_stops_short_fails_for_lack_of_progress_not_at_the_timeout(
         rig.tick(20.0 + 0.05 * k)
         if not rig.nav.active:
             break
-    assert rig.nav.state is State.FOLLOWING or rig.nav.reason.startswith("timeout")
+    # ~20 s of creeping, twice the progress window and well inside the 60 s deadline: still going
+    assert k == 399 and rig.nav.state is State.FOLLOWING, rig.nav.reason
