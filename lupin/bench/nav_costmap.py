@@ -1,5 +1,5 @@
-"""Costmap and planner benchmarks: NavFn across a 400 x 400 map, full inflation of 400 x 400 and
-2000 x 2000 maps, and one local-costmap update from a 500-point scan.
+"""Costmap and planner benchmarks: NavFn across a 400 x 400 map and along a 100 x 30 m one, full
+inflation of 400 x 400 and 2000 x 2000 maps, and one local-costmap update from a 500-point scan.
 
 The maps are synthetic greenhouses at the seed's 0.05 m: walls round the floor and pots
 (r 0.10 m) 1 m apart in rows 1 m apart, the built-in greenhouse's layout repeated. Each benchmark
@@ -27,17 +27,19 @@ from nav.planner import NavfnPlanner, propagate
 RES = 0.05
 
 
-def _greenhouse(cells: int, unknown_fraction: float = 0.0, seed: int = 0) -> np.ndarray:
-    """Layer costs (0 free / 254 lethal / 255 unknown) of a square greenhouse ``cells`` wide."""
-    m = np.zeros((cells, cells), np.uint8)
+def _greenhouse(cells: int, unknown_fraction: float = 0.0, height: int | None = None) -> np.ndarray:
+    """Layer costs (0 free / 254 lethal / 255 unknown) of a greenhouse ``cells`` wide (and as
+    high, unless ``height``)."""
+    height = cells if height is None else height
+    m = np.zeros((height, cells), np.uint8)
     m[[0, -1], :] = m[:, [0, -1]] = LETHAL
     step, radius = int(round(1.0 / RES)), int(round(0.10 / RES))
-    for y in range(2 * step, cells - step, step):
+    for y in range(2 * step, height - step, step):
         for x in range(2 * step, cells - 2 * step, step):
             cv2.circle(m, (x, y), radius, LETHAL, -1)
     if unknown_fraction:
-        m[: int(cells * unknown_fraction), :] = np.where(m[: int(cells * unknown_fraction), :] == LETHAL,
-                                                         LETHAL, UNKNOWN)
+        m[: int(height * unknown_fraction), :] = np.where(m[: int(height * unknown_fraction), :] == LETHAL,
+                                                          LETHAL, UNKNOWN)
     return m
 
 
@@ -90,6 +92,34 @@ def plan_400(config: LupinConfig) -> Sample:
     assert pot[391 * 402 + 391] < 1e10, "the interpreted wavefront did not reach the far corner"
     return Sample(times, {"cells": 400 * 400, "path_points_median": int(np.median(path_len)),
                           "python_wavefront_ms": round(interpreted, 1)})
+
+
+@benchmark("nav.plan_long")
+def plan_long(config: LupinConfig) -> Sample:
+    """NavFn along a 100 x 30 m greenhouse at 0.05 m (2000 x 600 cells, 2,600 pots): the longest
+    plans a patrol of a commercial greenhouse asks for (end to end, corner to corner) and a short
+    one, each replanned as the navigator does at 1 Hz. Dijkstra's wavefront stops once the goal
+    has a potential, so a short plan costs little whatever the map's size; the end-to-end plans are
+    the worst case (goal 50 ms)."""
+    grid = CostGrid(_inflation(config).apply(_greenhouse(2000, height=600)), RES, 0.0, 0.0)
+    planner = NavfnPlanner(config.nav.planner)
+    pairs = [((0.5, 0.5), (99.5, 29.5)), ((99.5, 0.5), (0.5, 29.5)), ((0.5, 15.5), (99.5, 14.5)),
+             ((0.5, 0.5), (10.5, 0.5))]
+    k = iter(range(10 ** 9))
+    lengths = {}
+
+    def once():
+        start, goal = pairs[next(k) % len(pairs)]
+        path = planner.plan(grid, start, goal)
+        lengths[(start, goal)] = float(np.hypot(*np.diff(path, axis=0).T).sum())
+
+    planner.plan(grid, *pairs[0])  # numba's cache loaded
+    times = time_ms(once, 40, warmup=0)
+    per_pair = [times[i::len(pairs)] for i in range(len(pairs))]
+    return Sample(times, {"cells": int(grid.data.size), "size_m": [100.0, 30.0],
+                          "end_to_end_median_ms": round(float(np.median(per_pair[0] + per_pair[1] + per_pair[2])), 3),
+                          "short_10m_median_ms": round(float(np.median(per_pair[3])), 3),
+                          "path_lengths_m": [round(v, 1) for v in lengths.values()]})
 
 
 def _scan(occupancy: np.ndarray, pose, beams: int = 500, max_range: float = 12.0) -> LidarScan:
