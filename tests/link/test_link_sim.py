@@ -1,11 +1,9 @@
 """The link against a real sim runtime over real Zenoh sessions on loopback: the token rule,
 fuzzed queries that leave the runtime unharmed, a console that vanishes mid-teleop, and two
-consoles that see the same robot."""
+consoles that see the same robot. Each test has a runtime of its own (tests/link/sim_service.py)."""
 from __future__ import annotations
 
 import json
-import tempfile
-import threading
 import time
 from pathlib import Path
 
@@ -14,55 +12,16 @@ import zenoh
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from mission.jobs.serve import run_service
-from mission.jobs.sim_serve import start_sim_service
-from mission.link.client import LinkClient
-from mission.link.server import LinkServer, free_endpoint, session_config
+from mission.link.server import session_config
 from mission.link.telemetry import TOPICS
 from mission.link.wire import cmd_key
-from mission.runtime.config import LupinConfig, with_overrides
-from sim.world import load_default_world
+from tests.link.sim_service import TOKEN, client, runtime, wait_for  # noqa: F401  (runtime: the fixture)
 
 pytestmark = pytest.mark.slow
-TOKEN = "operator-token"
-
-
-def wait_for(cond, timeout=10.0):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if cond():
-            return True
-        time.sleep(0.02)
-    return False
-
-
-@pytest.fixture(scope="module")
-def runtime():
-    """A real-time sim service with its link server, stepping on its own thread; ``probe``
-    records (runtime time, wheel owner, last manual publish time) after every control tick."""
-    config = with_overrides(LupinConfig(), {"sim": {"realtime": True}})
-    service = start_sim_service(load_default_world(), config, Path(tempfile.mkdtemp()), time.perf_counter)
-    endpoint = free_endpoint()
-    server = LinkServer(service, config.link, TOKEN, endpoint)
-    probe: list[tuple[float, str]] = []
-    service.robot.scheduler.every("test.probe", config.hw.base.control_rate,
-                                  lambda now: probe.append((round(now - 1e-4, 6), service.robot.base.source)), offset=1e-4)
-    stop = threading.Event()
-    thread = threading.Thread(target=run_service, args=(service, stop, server.close), daemon=True)
-    thread.start()
-    yield service, server, endpoint, probe
-    stop.set()
-    thread.join(20)
-
-
-def client(endpoint, token=TOKEN) -> LinkClient:
-    c = LinkClient(endpoint, "mirte", token)
-    assert wait_for(lambda: c.view().connected), "no telemetry"
-    return c
 
 
 def test_unauthorised_commands_are_refused_and_anyone_may_stop_the_robot(runtime):
-    service, server, endpoint, probe = runtime
+    service, endpoint = runtime.service, runtime.endpoint
     stranger, operator = client(endpoint, "guess"), client(endpoint)
     try:
         assert "operator token" in stranger.send("mission_start")
@@ -79,7 +38,7 @@ def test_unauthorised_commands_are_refused_and_anyone_may_stop_the_robot(runtime
 
 
 def test_two_consoles_see_the_same_robot_and_mission(runtime):
-    service, server, endpoint, probe = runtime
+    service, endpoint = runtime.service, runtime.endpoint
     a, b = client(endpoint), client(endpoint)
     try:
         assert a.send("mission_start") is None
@@ -101,14 +60,14 @@ def test_two_consoles_see_the_same_robot_and_mission(runtime):
         assert jpeg is not None and jpeg[:2] == b"\xff\xd8"
         assert b.send("mission_abort") is None
         assert wait_for(lambda: a.view().mission_state == "done" and a.view().mission_outcome == "aborted")
-        assert (Path(service.runs) / "default-patrol-1" / "report.json").is_file()
+        assert (Path(service.runs) / "default-patrol-1" / "report.json").is_file()  # this runtime's first patrol
     finally:
         a.close()
         b.close()
 
 
 def test_a_console_that_vanishes_mid_teleop_stops_the_robot_within_the_mux_timeout(runtime):
-    service, server, endpoint, probe = runtime
+    service, endpoint, probe = runtime.service, runtime.endpoint, runtime.probe
     c = client(endpoint)
     assert c.send("mission_start") is None
     for _ in range(15):  # hold the stick for ~0.75 s
@@ -138,7 +97,7 @@ def test_map_save_over_the_link(runtime, tmp_path):
     from lupin.cli import main
     from nav.map_io import load_map
 
-    service, server, endpoint, probe = runtime
+    service, endpoint = runtime.service, runtime.endpoint
     assert main(["map", "save", "--connect", endpoint, "-o", str(tmp_path / "live.yaml")]) == 0
     saved, held = load_map(tmp_path / "live.yaml"), service.nav.localisation.occupancy
     assert saved.resolution == held.resolution and (saved.occupancy == 100).sum() > 100
@@ -149,25 +108,25 @@ def test_map_save_over_the_link(runtime, tmp_path):
        payload=st.binary(max_size=64) | st.dictionaries(st.sampled_from(["token", "vx", "engaged", "name", "action", "mission"]),
                                                        st.none() | st.booleans() | st.floats() | st.text(max_size=6),
                                                        max_size=4).map(lambda d: json.dumps(d).encode()))
-def test_fuzzed_queries_are_refused_without_harming_the_runtime(runtime, name, payload):
-    service, server, endpoint, probe = runtime
-    session = fuzz_session(endpoint)
-    replies = list(session.get(cmd_key("mirte", name), payload=payload, timeout=3.0))
+def test_fuzzed_queries_are_refused_without_harming_the_runtime(runtime, fuzz_session, name, payload):
+    service, probe = runtime.service, runtime.probe
+    replies = list(fuzz_session.get(cmd_key("mirte", name), payload=payload, timeout=3.0))
     assert len(replies) == 1
     reply = replies[0]
     if reply.err is not None:
         assert json.loads(reply.err.payload.to_bytes())["error"]
     else:  # only the stop is open to anyone
         assert name == "estop" and json.loads(payload).get("engaged") is True
-        service.estop(False)  # put it back (as the operator would)
+        release = json.dumps({"token": TOKEN, "engaged": False})  # the operator puts it back
+        assert list(fuzz_session.get(cmd_key("mirte", "estop"), payload=release, timeout=3.0))[0].err is None
+        assert wait_for(lambda: not service.robot.estop.engaged())
     before = probe[-1][0]
     assert wait_for(lambda: probe[-1][0] > before)  # the control loop still beats
 
 
-_sessions: dict[str, zenoh.Session] = {}
-
-
-def fuzz_session(endpoint: str) -> zenoh.Session:
-    if endpoint not in _sessions:
-        _sessions[endpoint] = zenoh.open(session_config("connect", endpoint))
-    return _sessions[endpoint]
+@pytest.fixture
+def fuzz_session(runtime):
+    """A bare Zenoh session on the runtime's endpoint, for queries no client would send."""
+    session = zenoh.open(session_config("connect", runtime.endpoint))
+    yield session
+    session.close()

@@ -13,7 +13,7 @@ import pytest
 from lupin.cli import main
 from mission.link.client import LinkClient
 from mission.link.server import free_endpoint
-from tests.link.test_link_sim import wait_for
+from tests.link.sim_service import wait_for
 
 
 @pytest.mark.slow

@@ -11,7 +11,7 @@ import pytest
 from arm.limits import GRIPPER_CLOSED_DEG, GRIPPER_OPEN_DEG, clamp_arm, gripper_deg_to_rad
 from arm.presets import PRESETS, preset
 from mission.link.client import LinkClient
-from tests.link.test_link_sim import TOKEN, runtime  # noqa: F401  (runtime: the fixture)
+from tests.link.sim_service import TOKEN, runtime  # noqa: F401  (runtime: the fixture)
 from tui.keys import ARM_PRESETS
 from tui.app import make_app
 
@@ -44,7 +44,7 @@ def press(endpoint, keys, then=lambda: True, timeout=10.0):
 
 
 def test_every_binding_moves_the_sim_robot(runtime):
-    service, server, endpoint, probe = runtime
+    service, endpoint = runtime.service, runtime.endpoint
     robot = service.robot
 
     def manual():  # what the runtime took on the console's teleop source
