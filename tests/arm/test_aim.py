@@ -21,6 +21,7 @@ def aim():
     return CameraAim(CONFIG.kinematics, CONFIG.ik)
 
 
+@pytest.mark.slow
 def test_reachable_targets_are_hit_within_2cm_and_inside_the_windows(aim):
     mj = MujocoCamera()
     targets = reachable_targets(40)

@@ -130,6 +130,7 @@ def test_calibration_suspends_the_arm_and_resumes_it():
             drv.close()
 
 
+@pytest.mark.slow
 def test_the_sim_backend_is_a_clear_error():
     sim, robot = assemble(open_floor())
     try:

@@ -6,6 +6,8 @@ from arm.controller import ArmUnavailable
 from arm.presets import ARM_JOINTS, UnknownPreset, preset
 from tests.arm.conftest import ArmRig
 
+pytestmark = pytest.mark.slow
+
 INSPECT = preset("inspect")
 
 

@@ -3,6 +3,8 @@ import pytest
 
 from arm.gripper import GripperResult
 
+pytestmark = pytest.mark.slow
+
 
 def test_close_and_open_reach_the_urdf_ends(rig):
     rig.run(0.3)

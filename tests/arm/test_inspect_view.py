@@ -16,6 +16,8 @@ from mission.runtime.config import load_config
 from mission.runtime.sim_runtime import start_sim_runtime
 from sim.world import load_default_world
 
+pytestmark = pytest.mark.slow
+
 
 def bloom_mask(bgr: np.ndarray) -> np.ndarray:
     h, s, v = cv2.split(cv2.cvtColor(bgr, cv2.COLOR_BGR2HSV))

@@ -35,6 +35,7 @@ def mj():
     return MujocoCamera()
 
 
+@pytest.mark.slow
 def test_fk_matches_mujoco_across_the_windows(mj):
     rng = np.random.default_rng(7)
     qs = [np.array(v) for v in PRESETS.values()] + list(rng.uniform(limits.LOWER, limits.UPPER, (40, 4)))

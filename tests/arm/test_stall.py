@@ -4,6 +4,8 @@ import pytest
 from arm.controller import ArmUnavailable
 from arm.presets import preset
 
+pytestmark = pytest.mark.slow
+
 INSPECT = preset("inspect")
 
 

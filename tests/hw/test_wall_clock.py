@@ -1,4 +1,6 @@
 """The hardware clock: monotonic, and waiting reaches the requested instant (never early)."""
+import pytest
+
 from hw.interfaces import Clock, Twist
 from hw.wall_clock import WallClock
 
@@ -27,6 +29,7 @@ def test_wall_pace_holds_a_clock_back_to_wall_time(monkeypatch):
     assert slept == [0.5]
 
 
+@pytest.mark.slow
 def test_a_realtime_sim_waits_on_the_wall_before_each_step_and_runs_the_same_trajectory(monkeypatch):
     from sim import backend
     from tests.fixtures import assemble, open_floor

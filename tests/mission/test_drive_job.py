@@ -2,12 +2,15 @@
 import json
 import math
 
+import pytest
 import yaml
 
 from lupin.cli import main
 from mission.runtime.config import load_config
 from mission.jobs.drive import drive
 from sim.world import dump_world, load_default_world
+
+pytestmark = pytest.mark.slow
 
 
 def test_tour_of_the_default_greenhouse_is_clean():

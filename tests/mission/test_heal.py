@@ -21,6 +21,7 @@ def rig():
     sim.close()
 
 
+@pytest.mark.slow
 def test_the_five_controllers_are_the_seeds():
     sim, robot = assemble(open_floor())
     try:
@@ -29,6 +30,7 @@ def test_the_five_controllers_are_the_seeds():
         sim.close()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("state, actions", [
     ("missing", ["load", "configure", "activate"]),
     ("unconfigured", ["configure", "activate"]),
@@ -48,12 +50,14 @@ def test_each_broken_state_gets_exactly_what_it_needs_then_the_arm_is_homed(rig,
         assert sim.servos.joint_position(j) == pytest.approx(q, abs=0.05)
 
 
+@pytest.mark.slow
 def test_nothing_broken_means_no_actions(rig):
     sim, robot, calls = rig
     report = boot_heal(robot, env={})
     assert report.healed is True and report.actions == [] and calls == []
 
 
+@pytest.mark.slow
 def test_unreadable_states_issue_no_load_or_switch_and_exit_0(rig):
     sim, robot, calls = rig
     sim.faults.controller_race(["mirte_base_controller"], "inactive")
@@ -74,12 +78,14 @@ def test_unreadable_states_issue_no_load_or_switch_and_exit_0(rig):
     assert not report.homed
 
 
+@pytest.mark.slow
 def test_garbage_answers_count_as_unreadable(rig):
     sim, robot, calls = rig
     report = heal_controllers(robot.controllers, NAMES, robot.scheduler.clock, lambda: None, budget=1.0)
     assert report.healed is None and calls == []
 
 
+@pytest.mark.slow
 def test_a_controller_that_will_not_activate_is_false_exit_1(rig):
     sim, robot, calls = rig
     sim.faults.controller_race(["mirte_base_controller"], "unconfigured")
@@ -98,6 +104,7 @@ def test_a_controller_that_will_not_activate_is_false_exit_1(rig):
     assert not report.homed  # no park unless every controller is active
 
 
+@pytest.mark.slow
 def test_auto_home_false_skips_everything(rig):
     sim, robot, calls = rig
     sim.faults.controller_race(["mirte_base_controller"], "missing")
@@ -106,6 +113,7 @@ def test_auto_home_false_skips_everything(rig):
     assert report.skipped and report.exit_code == 0 and calls == []
 
 
+@pytest.mark.slow
 def test_a_latched_lift_fails_the_park(rig):
     sim, robot, calls = rig
     robot.scheduler.run_for(0.3)
@@ -123,6 +131,7 @@ def test_sim_boot_race_is_seeded_and_always_breaks_something():
         assert all(s in ACTIONS and s is not ControllerState.ACTIVE for s in race.values())
 
 
+@pytest.mark.slow
 def test_cli_heals_the_sim_and_exits_0(capsys):
     assert main(["heal", "--backend", "sim"]) == 0
     out = capsys.readouterr().out

@@ -29,6 +29,7 @@ def one_row_world(tmp_path):
     return path
 
 
+@pytest.mark.slow
 def test_map_save_surveys_the_greenhouse_with_slam_and_writes_a_loadable_map(capsys, tmp_path, monkeypatch):
     monkeypatch.setenv("LUPIN_NAV__SLAM", "false")  # set up to localise elsewhere: map save still maps
     monkeypatch.setenv("LUPIN_NAV__MAP_FILE", str(tmp_path / "elsewhere.yaml"))
@@ -118,6 +119,7 @@ def test_bad_map_input_is_exit_2_and_one_line(capsys, tmp_path, argv, needle):
     assert needle in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err
 
 
+@pytest.mark.slow
 def test_localisation_on_a_bad_saved_map_is_exit_2_before_the_robot_moves(capsys, tmp_path, monkeypatch):
     (tmp_path / "bad.yaml").write_text("image: gone.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n")
     monkeypatch.setenv("LUPIN_NAV__SLAM", "false")

@@ -15,6 +15,7 @@ def run(capsys, *argv):
     return code, out, err
 
 
+@pytest.mark.slow
 def test_navigate_json_and_picture(capsys, tmp_path):
     pic = tmp_path / "nav.png"
     code, out, err = run(capsys, "sim", "navigate", "--to", "2.5,0.5,0.0", "--json", "--picture", str(pic))

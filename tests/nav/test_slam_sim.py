@@ -20,6 +20,8 @@ from nav.slam.config import SlamConfig
 from nav.slam.mapper import Mapper
 from sim.world import load_default_world
 
+pytestmark = pytest.mark.slow
+
 
 def rms(est: np.ndarray, truth: np.ndarray) -> float:
     return float(np.sqrt(np.mean(np.sum((est[:, :2] - truth[:, :2]) ** 2, axis=1))))

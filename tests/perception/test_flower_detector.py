@@ -13,6 +13,7 @@ from tests.perception.conftest import POTS
 DETECT = FlowerDetector()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("pot_id", ["P01", "P02", "P03"])
 def test_each_class_from_the_approach_pose(scenes, pot_id):
     flower = POTS[pot_id][0]
@@ -25,12 +26,14 @@ def test_each_class_from_the_approach_pose(scenes, pot_id):
     assert frame.confidence > 0.9
 
 
+@pytest.mark.slow
 def test_a_pot_without_a_plant_has_no_bloom(scenes):
     frame = DETECT(scenes["P04"].wrist)
     assert frame.flower == "none" and frame.count == 0 and frame.blooms == () and not frame.bug
     assert frame.confidence == 0.0
 
 
+@pytest.mark.slow
 def test_two_blooms_of_the_same_colour_count_two(scenes):
     scene = scenes["P05"]
     frame = DETECT(scene.wrist)
@@ -40,12 +43,14 @@ def test_two_blooms_of_the_same_colour_count_two(scenes):
     assert abs(a[0] - b[0]) > 100  # two separate blobs, side by side in the frame
 
 
+@pytest.mark.slow
 def test_three_white_blooms(scenes):
     scene = scenes["P07"]
     frame = DETECT(scene.wrist)
     assert frame.flower == "white" and frame.count == scene.count_truth
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("pot_id", ["P06", "P08"])
 def test_a_pest_on_a_bloom_is_reported_on_that_bloom(scenes, pot_id):
     scene = scenes[pot_id]
@@ -56,11 +61,13 @@ def test_a_pest_on_a_bloom_is_reported_on_that_bloom(scenes, pot_id):
     assert sum(b.bug for b in frame.blooms) == 1  # only the bloom carrying it
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("pot_id", ["P01", "P02", "P03", "P05", "P07"])
 def test_no_pest_on_clean_blooms(scenes, pot_id):
     assert not DETECT(scenes[pot_id].wrist).bug
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("brightness,tint,tilt", [
     (0.65, (1.08, 1.0, 0.92), (0.5, -0.5)),   # dim, warm, low sun
     (1.35, (0.92, 1.0, 1.08), (-0.5, 0.5)),   # bright, cool
@@ -73,6 +80,7 @@ def test_lighting_extremes(studio, brightness, tint, tilt):
         assert frame.bug == scene.bug_truth, pot_id
 
 
+@pytest.mark.slow
 def test_jpeg_copies_read_the_same(scenes):
     """Frames leave the robot as JPEG and come back through ``lupin detect``."""
     for pot_id in ("P02", "P05", "P06"):
@@ -82,6 +90,7 @@ def test_jpeg_copies_read_the_same(scenes):
         assert (jpeg.flower, jpeg.count, jpeg.bug) == (raw.flower, raw.count, raw.bug)
 
 
+@pytest.mark.slow
 def test_a_big_photo_reports_in_its_own_pixels(scenes):
     small = DETECT(scenes["P05"].wrist)
     big = DETECT(cv2.resize(scenes["P05"].wrist, (2560, 1920), interpolation=cv2.INTER_CUBIC))

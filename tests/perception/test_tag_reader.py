@@ -49,6 +49,7 @@ def _errors(read, rot, pos) -> tuple[float, float]:
     return float(np.linalg.norm(np.subtract(read.position, pos))), math.degrees(rotation_error(read.rotation, rot))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("pot_id", list(POTS))
 def test_sim_tag_at_the_approach_pose(scenes, pot_id):
     scene = scenes[pot_id]
@@ -61,6 +62,7 @@ def test_sim_tag_at_the_approach_pose(scenes, pot_id):
     assert reads[0].distance == pytest.approx(0.234, abs=0.01)  # 0.5 standoff - camera - pot - plate
 
 
+@pytest.mark.slow
 def test_off_axis_angle_follows_a_turned_approach(studio):
     """Turned 0.12 rad (the yaw tolerance) at the approach pose: still read, and the off-axis
     angle is the tag's view angle from the displaced camera (not zero, not the full turn)."""

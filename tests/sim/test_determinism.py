@@ -1,9 +1,12 @@
 """Same seed, same trajectory; another seed, another (slightly) different one."""
 import numpy as np
+import pytest
 
 from mission.jobs.drive import start_drive
 from mission.runtime.config import load_config
 from sim.world import load_default_world
+
+pytestmark = pytest.mark.slow
 
 
 def _trajectory(seed: int, seconds: float = 12.0) -> np.ndarray:

@@ -7,6 +7,8 @@ from hw.interfaces import DeviceError, Twist
 from hw.leds import PALETTE
 from tests.fixtures import assemble, open_floor
 
+pytestmark = pytest.mark.slow
+
 FLOOR = (8.0, 6.0)
 
 

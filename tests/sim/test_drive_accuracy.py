@@ -11,6 +11,8 @@ from mission.jobs.drive import drive
 from mission.runtime.config import load_config
 from tests.fixtures import open_floor
 
+pytestmark = pytest.mark.slow
+
 
 @pytest.mark.parametrize("route, axis, amount, tol", [
     ("straight", 0, 1.0, 0.02),

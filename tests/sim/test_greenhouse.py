@@ -139,6 +139,7 @@ def test_tag_image_rejects_ids_outside_the_family():
         tag_image(587)
 
 
+@pytest.mark.slow
 def test_greenhouse_xml_writes_one_texture_per_tag(tmp_path):
     xml = greenhouse_xml(WORLD, GreenhouseGeometry(), tmp_path)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["tag_17.png", "tag_21.png", "tag_3.png", "tag_5.png"]
@@ -148,6 +149,7 @@ def test_greenhouse_xml_writes_one_texture_per_tag(tmp_path):
     mujoco.MjModel.from_xml_string(xml)  # compiles from the text alone
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("pot_id", ["RED", "WHITE", "PINK"])
 def test_front_camera_reads_the_tag_at_the_approach_pose(sim, pot_id):
     model, data, renderer = sim
@@ -163,6 +165,7 @@ def test_front_camera_reads_the_tag_at_the_approach_pose(sim, pot_id):
 
 
 # --- blooms ------------------------------------------------------------------------------------
+@pytest.mark.slow
 @pytest.mark.parametrize("pot_id", ["RED", "WHITE", "PINK", "PEST", "BARE"])
 def test_blooms_from_above_fall_in_their_class_only(sim, pot_id):
     """A free camera straight above the pot: the bloom colours land in their own HSV class and
@@ -182,6 +185,7 @@ def test_blooms_from_above_fall_in_their_class_only(sim, pot_id):
         assert len(blobs[p.flower]) == p.blooms, blobs
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("pot_id", ["RED", "WHITE", "PINK", "PEST", "BARE"])
 def test_wrist_camera_at_inspect_sees_the_blooms(sim, pot_id):
     """The patrol's view: at the approach pose, arm at ``inspect`` (sagged under gravity), the
@@ -200,6 +204,7 @@ def test_wrist_camera_at_inspect_sees_the_blooms(sim, pot_id):
 
 
 # --- the rest of the world ------------------------------------------------------------------------
+@pytest.mark.slow
 def test_overview_camera_shows_the_whole_floor(sim):
     model, data, renderer = sim
     place(model, data, (WORLD.spawn.x, WORLD.spawn.y, WORLD.spawn.yaw))
@@ -225,6 +230,7 @@ def test_overview_camera_shows_the_whole_floor(sim):
     assert not np.array_equal(corner, outside)
 
 
+@pytest.mark.slow
 def test_names_groups_and_collision_bits(sim):
     model, _, _ = sim
     assert model.body("pot_RED").id > 0 and model.geom("tag_RED").id > 0
@@ -259,6 +265,7 @@ def test_names_groups_and_collision_bits(sim):
     assert data.cam_xpos[model.camera("front_camera").id][2] == pytest.approx(plate[2])
 
 
+@pytest.mark.slow
 def test_robot_contract_names():
     """The names the backend relies on (sim/backend.py and friends)."""
     model = build_greenhouse(WORLD)

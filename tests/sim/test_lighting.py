@@ -14,6 +14,8 @@ from sim.config import SimConfig  # noqa: E402
 from sim.lighting import LightingJitter  # noqa: E402
 from sim.world import load_default_world  # noqa: E402
 
+pytestmark = pytest.mark.slow
+
 
 @pytest.fixture(scope="module")
 def sim():

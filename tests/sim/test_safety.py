@@ -5,6 +5,8 @@ import pytest
 from hw.interfaces import Twist
 from tests.fixtures import assemble, open_floor
 
+pytestmark = pytest.mark.slow
+
 
 def _drive(robot, until, twist=Twist(vx=0.3), source="manual", step=0.1):
     t = robot.scheduler.clock.now()

@@ -19,6 +19,8 @@ import pytest  # noqa: E402
 from sim.greenhouse import ROBOT_XML, build_greenhouse  # noqa: E402
 from sim.world import World, load_default_world  # noqa: E402
 
+pytestmark = pytest.mark.slow
+
 try:
     from sim.generate import generate_world
 except ImportError:  # pragma: no cover - the generator is optional for these tests
