@@ -47,7 +47,8 @@ class SimRobot:
         self.button = SimEStopButton(hw_config.estop.engaged_level)
         self.leds = SimLedStrip(engine, hw_config.leds.num_leds, sc.led_wiring)
         self.renderers = RendererPool(engine)
-        cams = {k: SimCamera(self.renderers, v, sc.camera.width, sc.camera.height) for k, v in CAMERAS.items()}
+        cams = {k: SimCamera(self.renderers, v, sc.camera.width, sc.camera.height, sc.camera.draw_distance)
+                for k, v in CAMERAS.items()}
         self.faults = SimFaults(engine, self.lidar, self.servos, self.battery, self.button, cams, controllers)
         self.clock = SimClock(self._paced(engine) if sc.realtime else engine.advance_to, start=engine.time)
         self.hal = Hal(

@@ -61,6 +61,12 @@ class CameraConfig(_Strict):
     """USB gripper camera vertical field of view, deg (untuned)."""
     wrist_pitch: float = 0.40
     """Gripper camera pitch below the wrist link, rad (seed: gripper_camera_joint ~0.40 rad)."""
+    draw_distance: float = Field(8.0, gt=0)
+    """The robot's cameras draw what lies within this many metres of them, like a far clipping
+    plane, m. Beyond it a pot is ~8 px wide and its 0.10 m tag ~6 px, past reading; drawing it
+    anyway made a 180-pot greenhouse's front frame 5x dearer to render than the 12-pot one's
+    (MuJoCo draws every geom in the scene). The built-in greenhouse (7 x 4 m) lies within it from
+    almost anywhere in it."""
 
 
 class BatteryConfig(_Strict):

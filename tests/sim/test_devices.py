@@ -174,3 +174,28 @@ def test_lidar_sees_the_robots_own_arm(rig):
     assert (home < 0.25).sum() > 5
     front = np.abs(np.degrees(np.arctan2(np.sin(sim.lidar.angles), np.cos(sim.lidar.angles)))) < 30
     assert (tuck[front] < 0.25).sum() > (home[front] < 0.25).sum()  # tucked arm crosses the front
+
+
+def test_the_robots_cameras_draw_only_what_lies_within_their_draw_distance():
+    """A crate 2 m ahead is drawn; one 11 m ahead, and the hall's end wall 13 m ahead, are left
+    out of the front frame, and nothing else changes; the model is as it was."""
+    from sim.world import Floor, Obstacle, Pose2, World
+
+    world = World(name="long", floor=Floor(x=14.0, y=4.0), spawn=Pose2(x=1.0, y=2.0, yaw=0.0), pots=[],
+                  obstacles=[Obstacle(x=3.0, y=1.6, sx=0.3, sy=0.3, h=0.8), Obstacle(x=12.0, y=2.3, sx=0.6, sy=0.6, h=1.6)])
+    sim, _ = assemble(world)
+    try:
+        rgba = sim.engine.model.geom_rgba.copy()
+        limited = sim.hal.cameras["front"].capture().astype(int)
+        everything = sim.renderers.render("front_camera", 640, 480)[:, :, ::-1].astype(int)
+        assert sim.hal.cameras["front"].draw_distance == 8.0
+        assert np.array_equal(sim.engine.model.geom_rgba, rgba)
+        changed = np.abs(limited - everything).sum(axis=2) > 30
+        rows, cols = np.nonzero(changed)
+        assert changed.sum() > 2000  # the far end of the hall is missing from the limited frame ...
+        assert rows.max() < 250 and 200 < cols.min() and cols.max() < 480  # ... and only there, at the horizon
+        assert np.array_equal(limited[100:250, 400:480], everything[100:250, 400:480])  # the near crate
+        near = sim.renderers.render("front_camera", 640, 480, draw_distance=2.5)[:, :, ::-1].astype(int)
+        assert (np.abs(near - limited).sum(axis=2) > 30).sum() > changed.sum()  # the walls go too at 2.5 m
+    finally:
+        sim.close()
