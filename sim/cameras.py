@@ -4,12 +4,17 @@ One ``mujoco.Renderer`` per image size is shared by all cameras of that size and
 first use, so a run that never looks costs nothing. Frames come back in OpenCV's BGR order,
 like ``cv2.VideoCapture`` on the robot.
 
-The robot's cameras draw only the geoms within ``draw_distance`` of them (sim config): MuJoCo
-leaves a geom whose alpha is 0 out of the scene, so the far ones are made transparent for the
-one frame and put back at once (nothing else runs in between: no physics, no lidar ray sees it).
-The cost of a frame then follows what is near the robot, not the size of the greenhouse.
+The robot's cameras draw only the geoms that can show in their view (their bounding sphere
+touches the camera's frustum) within ``draw_distance`` of them (sim config). MuJoCo draws every
+geom in its scene, in view or not, so a 180-pot greenhouse cost five times the built-in one per
+frame; it leaves a geom whose alpha is 0 out of the scene, so the others are made transparent for
+the one frame and put back at once (nothing else runs in between: no physics step, no lidar ray
+sees them). Frustum culling changes no pixel; the draw distance drops only what is too far to
+read. The cost of a frame then follows what is in front of the robot, not the greenhouse's size.
 """
 from __future__ import annotations
+
+import math
 
 import mujoco
 import numpy as np
@@ -40,20 +45,32 @@ class RendererPool:
             r.update_scene(self.engine.data, camera=camera)
             return r.render()
         m, d = self.engine.model, self.engine.data
-        eye = d.cam_xpos[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_CAMERA, camera)]
-        far = np.flatnonzero(np.linalg.norm(d.geom_xpos - eye, axis=1) - m.geom_rbound > draw_distance)
-        alpha = m.geom_rgba[far, 3].copy()
-        m.geom_rgba[far, 3] = 0.0
+        hidden = np.flatnonzero(~_in_view(m, d, self.engine.id(mujoco.mjtObj.mjOBJ_CAMERA, camera),
+                                          width / height, draw_distance))
+        alpha = m.geom_rgba[hidden, 3].copy()
+        m.geom_rgba[hidden, 3] = 0.0
         try:
             r.update_scene(d, camera=camera)
         finally:
-            m.geom_rgba[far, 3] = alpha
+            m.geom_rgba[hidden, 3] = alpha
         return r.render()
 
     def close(self) -> None:
         for r in self._renderers.values():
             r.close()
         self._renderers.clear()
+
+
+def _in_view(m: mujoco.MjModel, d: mujoco.MjData, cam: int, aspect: float, far: float) -> np.ndarray:
+    """Per geom: may its bounding sphere show in camera ``cam``'s view, no farther than ``far``?
+    (Conservative: a sphere touching the frustum counts.)"""
+    rel = (d.geom_xpos - d.cam_xpos[cam]) @ d.cam_xmat[cam].reshape(3, 3)  # camera frame: x right, y up, looking down -z
+    depth, r = -rel[:, 2], m.geom_rbound
+    ty = math.tan(math.radians(m.cam_fovy[cam]) / 2)
+    tx = ty * aspect
+    sides = ((np.abs(rel[:, 0]) - depth * tx) / math.hypot(1.0, tx) <= r) & \
+            ((np.abs(rel[:, 1]) - depth * ty) / math.hypot(1.0, ty) <= r)
+    return sides & (depth >= -r) & (np.linalg.norm(rel, axis=1) - r <= far)
 
 
 class SimCamera:

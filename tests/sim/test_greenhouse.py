@@ -233,7 +233,8 @@ def test_overview_camera_shows_the_whole_floor(sim):
 @pytest.mark.slow
 def test_names_groups_and_collision_bits(sim):
     model, _, _ = sim
-    assert model.body("pot_RED").id > 0 and model.geom("tag_RED").id > 0
+    assert model.geom("tag_RED").id > 0
+    assert model.geom("pot_RED_geom").bodyid[0] == model.geom("tag_RED").bodyid[0] == 0  # static: the world's
     with pytest.raises(KeyError):
         model.geom("tag_BARE")  # no tag, no plate
     pot_geom, tag_geom = model.geom("pot_RED_geom"), model.geom("tag_RED")
