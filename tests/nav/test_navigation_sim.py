@@ -13,6 +13,8 @@ from sim.world import Floor, Obstacle, Pose2, World, load_default_world
 from tests.fixtures import open_floor
 
 
+pytestmark = pytest.mark.slow
+
 def navigate_run(world, seed=0, **env):
     """A sim run with the whole stack (SLAM included), started and past its readiness cascade."""
     run = start_navigate(world, load_config(env={"LUPIN_SIM__SEED": str(seed), **env}))

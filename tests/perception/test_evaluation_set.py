@@ -15,6 +15,8 @@ from mission.runtime.config import LupinConfig  # noqa: E402
 
 SEED, SHOTS = 1, 16
 
+pytestmark = pytest.mark.slow
+
 
 @pytest.fixture(scope="module")
 def evaluation():
