@@ -12,8 +12,8 @@ from mission.jobs.navigate import start_navigate
 from sim.world import Floor, Obstacle, Pose2, World, load_default_world
 from tests.fixtures import open_floor
 
-
 pytestmark = pytest.mark.slow
+
 
 def navigate_run(world, seed=0, **env):
     """A sim run with the whole stack (SLAM included), started and past its readiness cascade."""
