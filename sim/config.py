@@ -25,11 +25,14 @@ class DriveConfig(_Strict):
     dead_zone: float = Field(0.10, ge=0, lt=1)
     """|duty| below which the motor does not turn (hardware reference: 10 % dead-zone)."""
     slip: tuple[float, float, float] = (0.005, 0.012, 0.008)
-    """Fraction of the wheels' forward-kinematic twist lost to roller slip, (vx, vy, wz) in the
-    body frame. Mecanum strafing is lossier than driving straight (untuned, ~1 %)."""
+    """Mean fraction of the wheels' forward-kinematic twist lost to roller slip, (vx, vy, wz) in
+    the body frame. Mecanum strafing is lossier than driving straight (untuned, ~1 %)."""
     slip_jitter: float = Field(0.02, ge=0)
     """Std of the random, seeded variation of that slip per drive update (floor texture, dust):
-    odometry error then wanders a little from run to run, and a seed pins it down."""
+    odometry error then wanders a little from run to run, and a seed pins it down. Each update's
+    slip is drawn from a gamma distribution of that mean and std: never negative (rollers never
+    push the body past the wheels) and, unlike a normal clipped at 0, its mean is the configured
+    slip (a clipped normal of this jitter lost twice the configured 0.5 % driving straight)."""
     traction_force: float = Field(25.0, gt=0)
     """Largest horizontal force the wheels can push with, N (~0.6 * m * g for 4.2 kg): beyond
     it the wheels spin and odometry diverges from truth, as on the robot."""

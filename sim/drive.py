@@ -83,8 +83,15 @@ class SimDrive:
     # --- traction ----------------------------------------------------------------------
     def pre_chunk(self, t: float) -> None:
         tw = self.mecanum.forward(self.engine.data.qvel[self._wheel_dof])
-        slip = self._slip + self.drive.slip_jitter * self._rng.standard_normal(3)
-        self.engine.data.ctrl[self._traction] = np.array((tw.vx, tw.vy, tw.wz)) * (1.0 - np.clip(slip, 0.0, 1.0))
+        self.engine.data.ctrl[self._traction] = np.array((tw.vx, tw.vy, tw.wz)) * (1.0 - np.minimum(self._draw_slip(), 1.0))
+
+    def _draw_slip(self) -> np.ndarray:
+        """This update's slip per axis: gamma-distributed with the configured mean and jitter."""
+        jitter = self.drive.slip_jitter
+        if jitter == 0.0:
+            return self._slip
+        mean = np.maximum(self._slip, 1e-9)
+        return self._rng.gamma(mean * mean / (jitter * jitter), jitter * jitter / mean)
 
     def load(self) -> float:
         """Sum of |effective duty| over the wheels (0..4), for the battery's current draw."""
