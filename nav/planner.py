@@ -123,7 +123,8 @@ def resample(xy: np.ndarray, step: float) -> np.ndarray:
 @njit(cache=True)
 def propagate(cost, nx, start, goal):
     """NavFn's Dijkstra wavefront from ``start`` over a flat, framed cost array; stops once
-    ``goal`` has a potential. Returns the potential (float32, POT_HIGH where unreached)."""
+    ``goal`` has a potential (``goal`` -1: covers everything reachable). Returns the potential
+    (float32, POT_HIGH where unreached)."""
     ns = cost.size
     pot = np.full(ns, POT_HIGH, dtype=np.float32)
     pending = np.zeros(ns, dtype=np.bool_)
@@ -168,7 +169,7 @@ def propagate(cost, nx, start, goal):
         if counts[cur] == 0:
             threshold += inc
             cur, over = over, cur
-        if pot[goal] < POT_HIGH:
+        if goal >= 0 and pot[goal] < POT_HIGH:
             break
     return pot
 

@@ -9,7 +9,7 @@ the robot moves::
 
 Poses are in the ``map`` frame: in SLAM mode its origin is the dock, the robot's pose when the
 runtime started. :func:`mission_from_world` writes the mission that patrols every pot of a sim
-world in that frame; :func:`visit_order` decides the order (as listed, or greedy nearest-first).
+world in that frame; ``mission.patrol.visit_order`` decides the order the pots are visited in.
 """
 from __future__ import annotations
 
@@ -69,8 +69,9 @@ class Mission(StrictEntry):
     """Drive home at the end."""
     pots: list[MissionPot] = Field(min_length=1)
     """The pots, visited in this order unless ``order: nearest``."""
-    order: Literal["as_listed", "nearest"] = "as_listed"
-    """``nearest``: greedy nearest-neighbour from the robot's pose at the start."""
+    order: Literal["as_listed", "nearest", "shortest"] = "as_listed"
+    """``nearest``: greedy nearest-neighbour from the robot's pose at the start; ``shortest``: the
+    shortest tour the planner finds over the map (``mission.patrol.visit_order``)."""
 
     def approach(self, pot: MissionPot) -> tuple[float, float, float]:
         """The pot's approach pose (x, y, yaw), map frame."""
@@ -120,31 +121,16 @@ def dump_mission(m: Mission) -> str:
     return "# Lupin patrol mission (spec/mission.md): metres, radians, map frame (origin: the dock).\n" + body
 
 
-def visit_order(m: Mission, start_xy: tuple[float, float]) -> list[MissionPot]:
-    """The pots in the order the patrol visits them. ``nearest`` is greedy nearest-neighbour
-    measured between *approach poses* (where the robot actually stops), from ``start_xy``;
-    ties go to the pot listed first."""
-    if m.order == "as_listed":
-        return list(m.pots)
-    left, out, here = list(m.pots), [], start_xy
-    while left:
-        nxt = min(left, key=lambda p: math.dist(here, m.approach(p)[:2]))
-        left.remove(nxt)
-        out.append(nxt)
-        here = m.approach(nxt)[:2]
-    return out
-
-
 def _r(v: float) -> float:
     return round(v, 6) + 0.0  # no -0.0 in the file
 
 
 def mission_from_world(world: World, name: str | None = None) -> Mission:
     """Every pot of ``world``, in the map frame of a robot starting at the world's spawn pose
-    (the dock is the origin), home at the dock, tags as printed."""
+    (the dock is the origin), home at the dock, tags as printed, in the shortest order."""
     dock = inverse(Pose2D(world.spawn.x, world.spawn.y, world.spawn.yaw))
     pots = []
     for p in world.pots:
         q = compose(dock, Pose2D(p.x, p.y, p.facing))
         pots.append(MissionPot(id=p.id, x=_r(q.x), y=_r(q.y), facing=_r(q.yaw), tag=p.tag))
-    return Mission(name=name or f"{world.name}-patrol", pots=pots)
+    return Mission(name=name or f"{world.name}-patrol", pots=pots, order="shortest")

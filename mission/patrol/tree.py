@@ -68,7 +68,9 @@ from hw.interfaces import Clock
 from hw.odometry import Pose2D
 from mission.patrol.config import PatrolConfig
 from mission.patrol.holds import MissionHolds
-from mission.patrol.mission_file import Mission, MissionPot, visit_order
+from mission.patrol.mission_file import Mission, MissionPot
+from mission.patrol.visit_order import visit_order
+from nav.path_lengths import path_lengths
 from mission.patrol.report import PatrolReport
 from mission.runtime.heal import heal_controllers
 from mission.runtime.robot import Robot
@@ -115,7 +117,8 @@ class PatrolTree:
         self._inspect_view = view_target(PRESETS["inspect"], arm.kinematics, self.config.bloom_height)
         self.detector = FlowerDetector(self.robot.config.perception.flower)
         start = self.nav.map_pose()
-        self.order = visit_order(self.mission, (start.x, start.y))
+        self.order = visit_order(self.mission, (start.x, start.y),
+                                 lambda points: path_lengths(self.nav.global_costmap.grid, points))
         self.visits = {p.id: PotVisit(p.id) for p in self.order}
         if self.holds is None:
             self.holds = MissionHolds(self.robot.estop, self.clock.now, self.report.t0)

@@ -11,8 +11,7 @@ from hw.errors import InputError
 from hw.odometry import Pose2D
 from mission.approach import approach_pose
 from lupin.cli import main
-from mission.patrol.mission_file import (dump_mission, load_mission, mission_from_world, parse_mission,
-                                         visit_order)
+from mission.patrol.mission_file import dump_mission, load_mission, mission_from_world, parse_mission
 from nav.frames import compose
 from sim.world import DEFAULT_WORLD, Pose2, load_default_world
 
@@ -126,24 +125,6 @@ def test_the_approach_heading_is_wrapped_to_minus_pi_exclusive_pi_inclusive():
     assert m.approach(m.pots[0]) == (1.5, 1.0, math.pi)  # not -pi
     h = 0.5 / math.sqrt(2)
     assert m.approach(m.pots[1]) == pytest.approx((h, h, -3 * math.pi / 4))
-
-
-def test_nearest_first_is_greedy_between_approach_poses():
-    pots = [{"id": "far", "x": 5.0, "y": 1.0, "facing": -math.pi / 2},
-            {"id": "near", "x": 1.0, "y": 1.0, "facing": -math.pi / 2},
-            {"id": "mid", "x": 3.0, "y": 1.0, "facing": -math.pi / 2},
-            {"id": "twin", "x": 3.0, "y": 0.0, "facing": math.pi / 2}]  # same approach pose as mid
-    m = parse_mission({"name": "n", "order": "nearest", "pots": pots}, "m.yaml")
-    assert [p.id for p in visit_order(m, (0.0, 0.5))] == ["near", "mid", "twin", "far"]
-    listed = m.model_copy(update={"order": "as_listed"})
-    assert [p.id for p in visit_order(listed, (0.0, 0.5))] == ["far", "near", "mid", "twin"]
-
-
-def test_nearest_first_measures_to_approach_poses_not_pot_centres():
-    pots = [{"id": "A", "x": 1.0, "y": 0.0, "facing": 0.0},  # centre 1.0 away, approach (1.5, 0): 1.5
-            {"id": "B", "x": 1.2, "y": 0.0, "facing": math.pi}]  # centre 1.2 away, approach (0.7, 0): 0.7
-    m = parse_mission({"name": "n", "order": "nearest", "pots": pots}, "m.yaml")
-    assert [p.id for p in visit_order(m, (0.0, 0.0))] == ["B", "A"]
 
 
 def test_from_world_puts_pots_in_the_dock_frame():
