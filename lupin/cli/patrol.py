@@ -42,6 +42,18 @@ def check_report(report: Path) -> None:
         raise InputError(f"--report {report}: cannot create {report.parent}: {exc.strerror}") from None
 
 
+def check_map(mission, saved_map: Optional[Path]) -> None:
+    """A ``--map`` must load and cover every pot of the mission (exit 2 naming the pots)."""
+    if saved_map is None:
+        return
+    from mission.patrol.map_coverage import uncovered_pots
+    from nav.map_io import load_map
+
+    problems = uncovered_pots(mission, load_map(saved_map))
+    if problems:
+        raise InputError("\n".join(f"--map {saved_map}: does not cover {p}" for p in problems))
+
+
 class Progress:
     """A rich status line: pot k of n, current step, sim and wall time."""
 
@@ -73,6 +85,8 @@ def patrol(
     realtime: bool = typer.Option(False, "--realtime", help="Run the sim at wall-clock pace instead of as fast as possible."),
     seed: Optional[int] = typer.Option(None, "--seed", help="Sim seed (overrides config)."),
     record: bool = typer.Option(False, "--record", help="Also record the run for Foxglove: run.mcap beside the report."),
+    saved_map: Optional[Path] = typer.Option(None, "--map", help="Localise (AMCL) on this saved map (map_server YAML) "
+                                             "instead of mapping from the dock; it must cover every pot."),
 ) -> None:
     """Run a scripted patrol mission to its end and write the report."""
     from mission.jobs.patrol import run_to_end, start_hw_patrol
@@ -81,12 +95,15 @@ def patrol(
     config = run_config(ctx) if seed is None else with_seed(run_config(ctx), seed)
     if realtime:
         config = with_overrides(config, {"sim": {"realtime": True}})
+    if saved_map is not None:
+        config = with_overrides(config, {"nav": {"slam": False, "map_file": str(saved_map)}})
     if backend is Backend.hw:
         if mission is None or world is not None:
             raise InputError("lupin patrol --backend hw: give --mission (and no --world: the robot patrols its real greenhouse)")
         if events is not None:
             raise InputError("lupin patrol --backend hw: --events scripts faults into the sim; it does not drive the robot")
         m = load_mission(mission)
+        check_map(m, saved_map)
         check_report(report)  # every input checked; only now does anything start
         run = start_hw_patrol(m, config, report, time.perf_counter)
     else:  # the sim path: only here is the simulator loaded
@@ -95,6 +112,7 @@ def patrol(
 
         w = world_or_default(world)
         m = mission_from_world(w) if mission is None else load_mission(mission)
+        check_map(m, saved_map)
         script = [] if events is None else load_events(events, config)
         check_report(report)
         run = start_sim_patrol(w, m, config, report, time.perf_counter, script)

@@ -12,6 +12,7 @@ from __future__ import annotations
 from hw.errors import InputError
 from mission.runtime.robot import Robot
 from mission.runtime.scheduler import Scheduler
+from nav.amcl.localisation import AmclLocalisation
 from nav.costmap.layered import global_costmap, local_costmap
 from nav.localisation import Localisation, get_localisation
 from nav.mppi.controller import MppiController
@@ -77,9 +78,12 @@ def clear_map(nav: Navigator, now: float) -> int:
 
 
 def final_map(nav: Navigator, scheduler: Scheduler) -> OccupancyMap | None:
-    """SLAM's map as it stands now (asked for, then the scheduler run until it is back: sent on
-    the next localisation tick, answered on the one after); None when not mapping."""
+    """The map the patrol ran on: SLAM's as it stands now (asked for, then the scheduler run
+    until it is back: sent on the next localisation tick, answered on the one after), or the
+    saved map AMCL localised on; None with neither."""
     slam = nav.localisation
+    if isinstance(slam, AmclLocalisation):
+        return slam.occupancy
     if not isinstance(slam, SlamSupervisor):
         return None
     slam.request_map()
