@@ -32,6 +32,10 @@ class RendererPool:
                draw_distance: float | None = None) -> np.ndarray:
         """RGB uint8 HxWx3 of the current state; with ``draw_distance`` (a named camera), only
         the geoms within that many metres of the camera are drawn."""
+        with self.engine.spending():
+            return self._render(camera, width, height, draw_distance)
+
+    def _render(self, camera, width: int, height: int, draw_distance: float | None) -> np.ndarray:
         key = (width, height)
         if key not in self._renderers:
             m = self.engine.model

@@ -43,8 +43,9 @@ class SimLidar:
         pnt = d.site_xpos[self._site].copy()
         rot = d.site_xmat[self._site].reshape(3, 3)
         vec = (self._local @ rot.T).ravel()
-        mujoco.mj_multiRay(self.engine.model, d, pnt, vec, GEOM_GROUPS, 1, self._body,
-                           self._geomid, self._dist, None, self.config.points, self.config.range_max)
+        with self.engine.spending():
+            mujoco.mj_multiRay(self.engine.model, d, pnt, vec, GEOM_GROUPS, 1, self._body,
+                               self._geomid, self._dist, None, self.config.points, self.config.range_max)
         r = self._dist.copy()
         r[self._geomid < 0] = np.inf
         return r

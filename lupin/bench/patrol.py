@@ -7,6 +7,13 @@ minute of robot time.
 mecanum base's strafe buys, in robot time. ``patrol.generated``: 20 generated greenhouses
 (seeds 1..20, 3 rows x 5 pots); a pot counts as correct when it was inspected and the report
 carries its tag, its flower colour and its pest flag as the world file has them.
+``patrol.large``: a generated two-bay greenhouse of 180 pots (36 x 7 m, a divider wall with
+doorways), once in each visit order (``shortest``, ``nearest``, ``as_listed``): the real-time
+factor, pots per minute, peak memory and success of the ``shortest`` run, and each order's
+distance driven. ``runtime.cpu``: the runtime's CPU per robot-second (``lupin.bench.meter``) on
+the default and the large patrol. ``slam.scale``: SLAM's per-scan cost over the large patrol,
+the last tenth against the first, the pose-graph solves and the kept scans' memory. The three
+share their patrols within one ``lupin bench`` process.
 """
 from __future__ import annotations
 
@@ -15,7 +22,7 @@ import time
 from pathlib import Path
 
 from lupin.bench import Sample, benchmark
-from mission.jobs.patrol import run_to_end
+from lupin.bench.meter import PatrolMeter
 from mission.jobs.sim_patrol import start_sim_patrol
 from mission.patrol.mission_file import mission_from_world
 from mission.runtime.config import LupinConfig, with_overrides
@@ -29,13 +36,45 @@ GENERATED_SEEDS = range(1, 21)
 ROWS, PER_ROW = 3, 5
 
 
-def patrol_once(world: World, config: LupinConfig) -> tuple[dict, float]:
+LARGE = (6, 15, 1, 2)
+"""rows, pots per row, seed, bays of ``patrol.large``'s greenhouse: 180 pots."""
+ORDERS = ("shortest", "nearest", "as_listed")
+_RUNS: dict = {}
+
+
+def patrol_once(world: World, config: LupinConfig, order: str = "shortest") -> tuple[dict, float]:
     """One whole patrol of every pot of ``world``; (report, wall seconds)."""
+    doc, wall, _ = metered_patrol(world, config, order)
+    return doc, wall
+
+
+def metered_patrol(world: World, config: LupinConfig, order: str = "shortest") -> tuple[dict, float, dict]:
+    """One whole patrol of every pot of ``world`` in ``order``; (report, wall seconds, what it
+    cost: ``lupin.bench.meter``)."""
+    mission = mission_from_world(world).model_copy(update={"order": order})
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()
-        run = start_sim_patrol(world, mission_from_world(world), config, Path(tmp) / "report.json", time.perf_counter)
-        doc = run_to_end(run)
-        return doc, time.perf_counter() - t0
+        run = start_sim_patrol(world, mission, config, Path(tmp) / "report.json", time.perf_counter)
+        meter = PatrolMeter(run)
+        try:
+            while not run.done:
+                run.step()
+            doc = run.finish(run.outcome())
+            return doc, time.perf_counter() - t0, meter.figures()
+        finally:
+            run.close()
+
+
+def cached(key: tuple, make):
+    """One patrol per key per process: patrol.large, runtime.cpu and slam.scale share them."""
+    if key not in _RUNS:
+        _RUNS[key] = make()
+    return _RUNS[key]
+
+
+def large_world() -> World:
+    rows, per_row, seed, bays = LARGE
+    return generate_world(rows, per_row, seed, bays=bays)
 
 
 def correct_pots(world: World, doc: dict) -> int:
@@ -47,7 +86,7 @@ def correct_pots(world: World, doc: dict) -> int:
 
 def repeated(config: LupinConfig) -> Sample:
     """``REPEATS`` patrols of the default greenhouse; figures from the median wall time."""
-    runs = [patrol_once(load_default_world(), config) for _ in range(REPEATS)]
+    runs = [metered_patrol(load_default_world(), config)[:2] for _ in range(REPEATS)]
     doc, walls = runs[0][0], sorted(w for _, w in runs)
     wall = walls[len(walls) // 2]
     inspected = sum(p["status"] == "inspected" for p in doc["pots"])
@@ -62,6 +101,52 @@ def repeated(config: LupinConfig) -> Sample:
 @benchmark("patrol.default")
 def default(config: LupinConfig) -> Sample:
     return repeated(config)
+
+
+@benchmark("patrol.large")
+def large(config: LupinConfig) -> Sample:
+    world = large_world()
+    runs = {order: cached(("large", order), lambda o=order: metered_patrol(world, config, o)) for order in ORDERS}
+    doc, wall, cost = runs["shortest"]
+    inspected = sum(p["status"] == "inspected" for p in doc["pots"])
+    sim = doc["sim_time_s"]
+    return Sample([wall * 1000.0], {
+        "pots": len(world.pots), "floor_m": [world.floor.x, world.floor.y], "outcome": doc["outcome"],
+        "inspected": inspected, "success_rate": round(correct_pots(world, doc) / len(world.pots), 4),
+        "wall_time_s": round(wall, 1), "sim_time_s": round(sim, 1), "rtf": round(sim / wall, 2),
+        "pots_per_min": round(inspected / (sim / 60.0), 3), "peak_rss_mb": cost["peak_rss_mb"],
+        "slam_worker_peak_rss_mb": cost["slam_worker_peak_rss_mb"],
+        "distance_m": {order: runs[order][0]["distance_m"] for order in ORDERS},
+        "sim_time_s_by_order": {order: runs[order][0]["sim_time_s"] for order in ORDERS},
+        "inspected_by_order": {order: sum(p["status"] == "inspected" for p in runs[order][0]["pots"]) for order in ORDERS}})
+
+
+@benchmark("runtime.cpu")
+def runtime_cpu(config: LupinConfig) -> Sample:
+    """CPU seconds of the robot runtime (every thread and the SLAM worker, not the simulator's
+    physics and rendering) per robot-second, on the default and the large patrol."""
+    default_cost = cached(("default",), lambda: metered_patrol(load_default_world(), config))[2]
+    large_cost = cached(("large", "shortest"), lambda: metered_patrol(large_world(), config))[2]
+    per = {k: c["runtime_cpu_per_robot_s"] for k, c in (("default", default_cost), ("large", large_cost))}
+    return Sample([c["runtime_cpu_s"] * 1000.0 for c in (default_cost, large_cost)], {
+        "default": per["default"], "large": per["large"], "large_over_default": round(per["large"] / per["default"], 3),
+        "slam_worker_share": {k: round(c["slam_worker_cpu_s"] / c["runtime_cpu_s"], 3)
+                              for k, c in (("default", default_cost), ("large", large_cost))},
+        "sim_cpu_per_robot_s": {k: round(c["sim_cpu_s"] / c["robot_s"], 4)
+                                for k, c in (("default", default_cost), ("large", large_cost))}})
+
+
+@benchmark("slam.scale")
+def slam_scale(config: LupinConfig) -> Sample:
+    """SLAM on the 180-pot patrol: per-scan update in the first and the last tenth (goal: within
+    1.5x), the pose-graph solves, the kept scans' memory. Times are the worker's per scan."""
+    doc, _, cost = cached(("large", "shortest"), lambda: metered_patrol(large_world(), config))
+    first, last = cost["slam_first_tenth_ms"], cost["slam_last_tenth_ms"]
+    return Sample([first["median"], last["median"]], {
+        "scans": cost["slam_scans"], "keyframes": cost["slam_keyframes"], "distance_m": doc["distance_m"],
+        "first_tenth_ms": first, "last_tenth_ms": last, "last_over_first_median": cost["slam_last_over_first_median"],
+        "last_over_first_p95": round(last["p95"] / first["p95"], 3),
+        "solves": cost["slam_solves"], "solve_ms": cost["slam_solve_ms"], "kept_mb": cost["slam_kept_mb"]})
 
 
 @benchmark("patrol.no_strafe")

@@ -73,6 +73,10 @@ class Mapper:
         """The latest scan's ``base_link`` pose in ``map``."""
         self.map_to_odom = Pose2D()
         self.loop_closures = 0
+        self.solves = 0
+        """Pose-graph optimisations run (each after an accepted loop closure that moved things)."""
+        self.kept_bytes = 0
+        """Memory of the kept scans and the keyframes' points (what re-rendering needs)."""
         self.scans = 0
         self._kf_lo: list[Pose2D] = []
         self._kf_points: list[np.ndarray] = []
@@ -94,6 +98,7 @@ class Mapper:
         if last is None or last.keyframe != k or distance(last.relative, relative) >= KEEP_SPACING \
                 or yaw_error(last.relative, relative) >= KEEP_SPACING:
             self._scans.append(_Scan(self.scans, k, relative, points[:, :2].astype(np.float16)))
+            self.kept_bytes += self._scans[-1].points.nbytes
         self._render(self.pose, points)
         self.map_to_odom = compose(self.pose, inverse(odom))
         self.scans += 1
@@ -132,6 +137,7 @@ class Mapper:
             self._travel.append(self._travel[-1] + distance(prev, lo))
         self._kf_lo.append(lo)
         self._kf_points.append(points.astype(np.float32))
+        self.kept_bytes += self._kf_points[-1].nbytes
         self._close_loop(len(self.graph) - 1)
 
     def _close_loop(self, k: int) -> None:
@@ -151,6 +157,7 @@ class Mapper:
             return
         before = self.graph.poses.copy()
         self.graph.optimize()
+        self.solves += 1
         if np.hypot(*(self.graph.poses[:, :2] - before[:, :2]).T).max() >= self.cfg.resolution / 2:
             self._rerender()
 

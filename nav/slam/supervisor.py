@@ -53,6 +53,8 @@ class SlamSupervisor:
         self.occupancy: OccupancyMap | None = None
         """The latest map the worker handed back."""
         self.last_reply: worker.Reply | None = None
+        self.listeners: list[Callable[[worker.Reply], None]] = []
+        """Called with every reply as it is taken (a benchmark's meter, say)."""
         self.spawned = self.deaths = 0
         self._proc = None
         self._conn = None
@@ -152,6 +154,8 @@ class SlamSupervisor:
             return False
         self._pending = None
         self.last_reply = reply
+        for listener in self.listeners:
+            listener(reply)
         self._answered = True
         self._map_to_odom = reply.map_to_odom
         if reply.occupancy is not None:

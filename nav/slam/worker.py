@@ -54,6 +54,12 @@ class Reply:
     busy_s: float
     """Wall seconds the worker spent on this scan (the round trip minus this is the overhead)."""
     occupancy: Optional[OccupancyMap] = None
+    solve_s: float = 0.0
+    """``busy_s`` of a scan that optimised the pose graph (0 for the others): the solve's cost."""
+    cpu_s: float = 0.0
+    """The worker process's CPU seconds so far (the robot runtime's share of the second core)."""
+    kept_bytes: int = 0
+    """Memory held for re-rendering: the kept scans and the keyframes' points."""
 
 
 def serve(conn: Connection, config: dict, mount: tuple[float, float, float]) -> None:
@@ -68,10 +74,12 @@ def serve(conn: Connection, config: dict, mount: tuple[float, float, float]) -> 
         t0 = time.perf_counter()
         if mapper is None:
             mapper = Mapper(cfg, Pose2D(*mount), msg.start)
+        solves = mapper.solves
         pose = mapper.process(msg.angles, msg.ranges, msg.odom)
         occ = mapper.occupancy() if msg.want_map else None
+        busy = time.perf_counter() - t0
         reply = Reply(msg.stamp, pose, mapper.map_to_odom, mapper.keyframes, mapper.loop_closures,
-                      time.perf_counter() - t0, occ)
+                      busy, occ, busy if mapper.solves > solves else 0.0, time.process_time(), mapper.kept_bytes)
         try:
             conn.send(reply)
         except (BrokenPipeError, OSError):

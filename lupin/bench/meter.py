@@ -1,0 +1,96 @@
+"""What a simulated patrol costs the robot: the runtime's CPU apart from the simulator's, SLAM's
+work per scan over the patrol, and memory.
+
+- **Runtime CPU** is the process's CPU time less the simulator's own (physics, renders, lidar
+  rays: ``sim.engine.Engine.cpu_s``), plus the SLAM worker's CPU (it reports its own in every
+  reply), per second of robot time: the share of a core the stack needs on the robot, whatever
+  the simulator costs here. ``runtime_cpu_per_robot_s`` 0.3 means 30 % of one core.
+- **SLAM per scan** is the worker's busy time for every scan it mapped, in order, so the first
+  and the last tenth of a patrol can be compared; solves are the scans that optimised the pose
+  graph; ``kept_mb`` is what it holds to re-render.
+- **Peak memory** is the high-water resident set of the runtime process during the patrol (the
+  mark is reset at the start where Linux allows it) and of the SLAM worker.
+"""
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import numpy as np
+
+from mission.jobs.patrol import PatrolRun
+from nav.slam.supervisor import SlamSupervisor
+
+
+def _hwm_mb(pid: int | str = "self") -> float:
+    """VmHWM (peak resident set) of a process, MB; 0 when unreadable."""
+    try:
+        for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+            if line.startswith("VmHWM:"):
+                return int(line.split()[1]) / 1024.0
+    except OSError:
+        pass
+    return 0.0
+
+
+def _reset_hwm() -> None:
+    try:
+        Path("/proc/self/clear_refs").write_text("5")
+    except OSError:
+        pass
+
+
+class PatrolMeter:
+    def __init__(self, run: PatrolRun):
+        self.run = run
+        self.engine = run.sim.sim.engine
+        self.t0 = run.robot.scheduler.clock.now()
+        _reset_hwm()
+        self.cpu0, self.sim_cpu0 = time.process_time(), self.engine.cpu_s
+        self.busy: list[float] = []
+        self.solves: list[float] = []
+        self.kept_bytes = 0
+        self.keyframes = 0
+        self._worker_cpu: dict[int, float] = {}
+        self.worker_hwm_mb = 0.0
+        self.slam: SlamSupervisor = run.nav.localisation  # metered patrols map as they go
+        self.slam.listeners.append(self._reply)
+
+    def _reply(self, reply) -> None:
+        self.busy.append(reply.busy_s)
+        if reply.solve_s:
+            self.solves.append(reply.solve_s)
+        self.kept_bytes, self.keyframes = reply.kept_bytes, reply.keyframes
+        pid = self.slam.pid
+        self._worker_cpu[pid] = reply.cpu_s
+        if len(self.busy) % 100 == 0:
+            self.worker_hwm_mb = max(self.worker_hwm_mb, _hwm_mb(pid))
+
+    def figures(self) -> dict:
+        """Read before the run is closed (the worker must still be there to be read)."""
+        robot_s = self.run.robot.scheduler.clock.now() - self.t0
+        main = (time.process_time() - self.cpu0) - (self.engine.cpu_s - self.sim_cpu0)
+        worker = sum(self._worker_cpu.values())
+        if self.slam.pid is not None:
+            self.worker_hwm_mb = max(self.worker_hwm_mb, _hwm_mb(self.slam.pid))
+        busy = np.asarray(self.busy) * 1000.0
+        tenth = max(1, len(busy) // 10)
+        first, last = busy[:tenth], busy[-tenth:]
+        return {
+            "robot_s": round(robot_s, 1),
+            "runtime_cpu_s": round(main + worker, 2), "slam_worker_cpu_s": round(worker, 2),
+            "sim_cpu_s": round(self.engine.cpu_s - self.sim_cpu0, 2),
+            "runtime_cpu_per_robot_s": round((main + worker) / robot_s, 4) if robot_s else None,
+            "peak_rss_mb": round(_hwm_mb(), 1), "slam_worker_peak_rss_mb": round(self.worker_hwm_mb, 1),
+            "slam_scans": len(busy), "slam_keyframes": self.keyframes, "slam_kept_mb": round(self.kept_bytes / 1e6, 2),
+            "slam_first_tenth_ms": _stats(first), "slam_last_tenth_ms": _stats(last),
+            "slam_last_over_first_median": round(float(np.median(last) / np.median(first)), 3) if len(busy) else None,
+            "slam_solves": len(self.solves), "slam_solve_ms": _stats(np.asarray(self.solves) * 1000.0),
+        }
+
+
+def _stats(ms: np.ndarray) -> dict | None:
+    if not len(ms):
+        return None
+    return {"median": round(float(np.median(ms)), 3), "p95": round(float(np.percentile(ms, 95)), 3),
+            "max": round(float(ms.max()), 3)}
