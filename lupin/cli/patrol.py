@@ -142,9 +142,14 @@ def _interrupt(signum, frame) -> None:
 
 
 def summary(doc: dict, report: Path) -> str:
+    """The end-of-patrol lines: the outcome with every pot not inspected counted by why
+    (``completed, 84/186 pots inspected, 102 unreachable``), then a line per pot and anomaly."""
+    from mission.patrol.report import not_inspected
+
     pots = doc["pots"]
     done = sum(p["status"] == "inspected" for p in pots)
-    lines = [f"{doc['mission']}: {doc['outcome']}, {done}/{len(pots)} pots inspected, "
+    short = "".join(f", {n} {kind}" for kind, n in not_inspected(doc).items())
+    lines = [f"{doc['mission']}: {doc['outcome']}, {done}/{len(pots)} pots inspected{short}, "
              f"{doc['sim_time_s']:.1f} s robot time, {doc['wall_time_s']:.1f} s wall, {doc['distance_m']:.1f} m driven"]
     for p in pots:
         f = p.get("flower") or {}

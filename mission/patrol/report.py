@@ -165,9 +165,25 @@ class PatrolReport:
         return doc
 
     def finish(self, outcome: str, **extra) -> dict:
-        """The final write: the outcome, and pots never reached marked ``skipped``."""
+        """The final write: the outcome, and pots never reached marked ``skipped`` with an
+        anomaly saying why (the patrol ended first), so every pot not inspected has one."""
         self.outcome = outcome
+        self.anomalies.extend({"kind": "skipped", "pot": p.id, "detail": f"not visited: the patrol ended {outcome}"}
+                              for p in self.mission.pots if p.id not in self.pots)
         return self.write(**extra)
+
+
+def not_inspected(doc: dict) -> dict[str, int]:
+    """Pots not inspected, counted by why (their first anomaly: ``unreachable``, ``skipped``, ...)."""
+    why = {}
+    for a in doc["anomalies"]:
+        why.setdefault(a["pot"], a["kind"])
+    counts: dict[str, int] = {}
+    for p in doc["pots"]:
+        if p["status"] != "inspected":
+            kind = why.get(p["id"], p["status"])
+            counts[kind] = counts.get(kind, 0) + 1
+    return counts
 
 
 def _entry(pot: MissionPot, status: str, attempts: int = 0) -> dict:

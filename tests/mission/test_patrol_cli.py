@@ -115,3 +115,17 @@ def test_sigterm_aborts_the_patrol_and_finishes_the_report(tmp_path):
     assert doc["outcome"] == "aborted" and doc["pots"][0]["status"] == "inspected"
     assert "skipped" in [p["status"] for p in doc["pots"]]
     assert out.startswith("default-patrol: aborted, ")
+
+
+def test_the_summary_says_how_many_pots_were_not_inspected_and_why():
+    from lupin.cli.patrol import summary
+
+    pot = {"tag_read": None, "flower": None}
+    doc = {"mission": "m", "outcome": "completed", "sim_time_s": 10.0, "wall_time_s": 2.0, "distance_m": 3.0,
+           "pots": [{**pot, "id": "A", "status": "inspected"}, {**pot, "id": "B", "status": "failed"},
+                    {**pot, "id": "C", "status": "failed"}, {**pot, "id": "D", "status": "skipped"}],
+           "anomalies": [{"kind": "no_bloom", "pot": "A", "detail": ""}, {"kind": "unreachable", "pot": "B", "detail": ""},
+                         {"kind": "unreachable", "pot": "C", "detail": ""}, {"kind": "skipped", "pot": "D", "detail": ""}],
+           "discovered_tags": []}
+    first = summary(doc, Path("r.json")).splitlines()[0]
+    assert first.startswith("m: completed, 1/4 pots inspected, 2 unreachable, 1 skipped, 10.0 s robot time")

@@ -12,7 +12,7 @@ from hw.odometry import Pose2D
 from mission.patrol.climate import NoClimate, TableClimate
 from mission.patrol.config import PatrolConfig
 from mission.patrol.mission_file import parse_mission
-from mission.patrol.report import PatrolReport, tag_in_map
+from mission.patrol.report import PatrolReport, not_inspected, tag_in_map
 from perception.camera_pipeline import Frame
 from perception.detections import Bloom, FlowerFrame, TagRead
 from sim.world import load_default_world
@@ -97,6 +97,15 @@ def test_arm_unavailable_still_reads_the_tag(report):
     assert r.pots["P01"]["images"] == ["P01_front.jpg"]
 
 
+def test_every_pot_not_inspected_is_counted_by_why(report):
+    r, m = report
+    r.record(m.pots[0], visited(blooms=()), Pose2D(1.0, 0.0, 1.5708))  # inspected, with a no_bloom anomaly
+    v = PotVisit("P02", attempts=2)
+    v.failures["approach"] = "navigation failed: no path"
+    r.record(m.pots[1], v, Pose2D(2.0, 0.0, 1.5708))
+    assert not_inspected(r.finish("battery_low")) == {"unreachable": 1, "skipped": 1}
+
+
 def test_an_unreachable_pot(report):
     r, m = report
     v = PotVisit("P02", attempts=2)
@@ -115,6 +124,8 @@ def test_the_report_on_disk_is_always_whole_and_the_end_marks_skipped_pots(repor
     assert (tmp_path / "P01_wrist.jpg").stat().st_size > 0
     final = r.finish("aborted")
     assert [p["status"] for p in final["pots"]] == ["inspected", "skipped", "skipped"]
+    assert [(a["kind"], a["pot"]) for a in final["anomalies"]] == [("skipped", "P02"), ("skipped", "P03")]
+    assert final["anomalies"][0]["detail"] == "not visited: the patrol ended aborted"
     assert json.loads((tmp_path / "report.json").read_text()) == final
     assert final["distance_m"] == 3.5 and final["sim_time_s"] == 0.0
     assert not list(tmp_path.glob(".*.tmp"))
