@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hw.odometry import Pose2D
+from hw.odometry import Pose2D, wrap_angles
 from nav.frames import compose, distance, inverse, transform_points, yaw_error
 from nav.grid_geometry import GridGeometry
 from nav.occupancy import OccupancyMap
@@ -45,8 +45,9 @@ LOOP_GAP = 1.0
 #: The grid is re-rendered only when the solve moved some keyframe by half a cell or more.
 LOOP_SETTLED = 0.01
 #: Scans kept for re-rendering are at least this far apart (m, rad): standing still adds nothing
-#: to keep, and a robot that maps for hours keeps ~2 MB per 100 m driven (float16 points).
-KEEP_SPACING = 0.05
+#: to keep, and every cell a 12 m scan sees is seen by dozens of scans 0.2 m apart, so keeping
+#: more only makes a re-render longer (~0.5 MB per 100 m driven, float16 points).
+KEEP_SPACING = 0.2
 
 
 @dataclass(frozen=True)
@@ -58,6 +59,15 @@ class _Scan:
     """The scan's pose as seen from its keyframe (lidar odometry frame)."""
     points: np.ndarray
     """float16 (N, 2) returns in ``base_link`` (4 mm at 8 m: a tenth of a map cell)."""
+    reach: float
+    """The farthest return from the robot, m: the scan touches no cell farther away."""
+
+
+def _place(keyframes: np.ndarray, relative: np.ndarray) -> np.ndarray:
+    """(N, 2) map positions of scans at ``relative`` (x, y) from their keyframes' poses (N, 3)."""
+    c, s = np.cos(keyframes[:, 2]), np.sin(keyframes[:, 2])
+    return np.column_stack([keyframes[:, 0] + c * relative[:, 0] - s * relative[:, 1],
+                            keyframes[:, 1] + s * relative[:, 0] + c * relative[:, 1]])
 
 
 class Mapper:
@@ -75,6 +85,8 @@ class Mapper:
         self.loop_closures = 0
         self.solves = 0
         """Pose-graph optimisations run (each after an accepted loop closure that moved things)."""
+        self.rerendered = 0
+        """Kept scans re-rendered after solves, all told (what loop closures cost the grid)."""
         self.kept_bytes = 0
         """Memory of the kept scans and the keyframes' points (what re-rendering needs)."""
         self.scans = 0
@@ -97,7 +109,9 @@ class Mapper:
         last = self._scans[-1] if self._scans else None
         if last is None or last.keyframe != k or distance(last.relative, relative) >= KEEP_SPACING \
                 or yaw_error(last.relative, relative) >= KEEP_SPACING:
-            self._scans.append(_Scan(self.scans, k, relative, points[:, :2].astype(np.float16)))
+            kept = points[:, :2].astype(np.float16)
+            reach = float(np.hypot(points[:, 0], points[:, 1]).max(initial=0.0)) + abs(self.mount.x) + 0.1
+            self._scans.append(_Scan(self.scans, k, relative, kept, reach))
             self.kept_bytes += self._scans[-1].points.nbytes
         self._render(self.pose, points)
         self.map_to_odom = compose(self.pose, inverse(odom))
@@ -158,8 +172,7 @@ class Mapper:
         before = self.graph.poses.copy()
         self.graph.optimize()
         self.solves += 1
-        if np.hypot(*(self.graph.poses[:, :2] - before[:, :2]).T).max() >= self.cfg.resolution / 2:
-            self._rerender()
+        self._rerender(before)
 
     def _correction(self) -> Pose2D:
         """lidar odometry frame -> map, from the latest keyframe's optimised pose."""
@@ -172,8 +185,34 @@ class Mapper:
         sensor = compose(pose, self.mount)
         self.grid.integrate((sensor.x, sensor.y), transform_points(pose, points[:, :2]))
 
-    def _rerender(self) -> None:
-        """The grid again from every scan at its corrected pose (the map follows the graph)."""
-        self.grid.clear()
-        for s in self._scans:
-            self._render(self._scan_pose(s), s.points.astype(np.float64))
+    def _rerender(self, before: np.ndarray) -> None:
+        """The map follows the graph, where the solve moved it: the keyframes whose scans moved
+        by half a cell or more anywhere within their reach (a turn of 0.01 rad moves a return
+        12 m out by 12 cm) mark a region, their scans' reach at the old poses and the new; that
+        region is cleared and re-rendered from every kept scan that touches it, each confined to
+        it, so the cells outside keep what they had and nothing is counted twice."""
+        if not self._scans:
+            return
+        kf = np.array([s.keyframe for s in self._scans])
+        reach = np.array([s.reach for s in self._scans])
+        shift = np.hypot(*(self.graph.poses[:, :2] - before[:, :2]).T)
+        turn = np.abs(wrap_angles(self.graph.poses[:, 2] - before[:, 2]))
+        moved = (shift[kf] + turn[kf] * reach) >= self.cfg.resolution / 2
+        if not moved.any():
+            return
+        rel = np.array([[s.relative.x, s.relative.y] for s in self._scans])
+        now_xy, was_xy = (_place(p[kf], rel) for p in (self.graph.poses, before))
+        corners = np.vstack([xy[moved] + sign * reach[moved, None] for xy in (now_xy, was_xy) for sign in (-1, 1)])
+        (x0, y0), (x1, y1) = corners.min(axis=0), corners.max(axis=0)
+        g = self.grid.geometry
+        (ix0, ix1), (iy0, iy1) = (np.clip(c, 0, n) for c, n in zip(g.cell_of([x0, x1], [y0, y1]), (g.width, g.height)))
+        window = (int(ix0), int(iy0), int(ix1) + 1, int(iy1) + 1)
+        self.grid.clear(window)
+        touches = ((now_xy[:, 0] + reach >= x0) & (now_xy[:, 0] - reach <= x1) &
+                   (now_xy[:, 1] + reach >= y0) & (now_xy[:, 1] - reach <= y1))
+        self.rerendered += int(touches.sum())
+        for i in np.flatnonzero(touches):
+            s = self._scans[i]
+            pose = self._scan_pose(s)
+            sensor = compose(pose, self.mount)
+            self.grid.integrate((sensor.x, sensor.y), transform_points(pose, s.points.astype(np.float64)), window)
