@@ -152,7 +152,8 @@ def loop(config: LupinConfig) -> Sample:
         truth = log["truth"][idx]
         key = "with_loop_closure" if closing else "without"
         figures[f"{key}_rms_m"] = _ate(poses, truth)
-        figures[f"{key}_end_m"] = round(float(np.hypot(*(poses[-1, :2] - truth[-1, :2]))), 4)
+        end = mapper.pose  # the last scan's map pose (the kept scans stop short of it)
+        figures[f"{key}_end_m"] = round(float(np.hypot(end.x - log["truth"][-1, 0], end.y - log["truth"][-1, 1])), 4)
     figures["loop_closures"] = mapper.loop_closures
     return Sample(times, figures)
 

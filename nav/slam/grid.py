@@ -58,7 +58,7 @@ class LogOddsGrid:
 
     def clear(self, window: tuple[int, int, int, int] | None = None) -> None:
         """Forget what was seen, everywhere or in the cells ``window`` = (ix0, iy0, ix1, iy1)."""
-        ix0, iy0, ix1, iy1 = window or (0, 0, self.geometry.width, self.geometry.height)
+        ix0, iy0, ix1, iy1 = self._window(window)
         self.logodds[iy0:iy1, ix0:ix1] = 0.0
         self._occupancy[iy0:iy1, ix0:ix1] = UNKNOWN
 
@@ -74,7 +74,7 @@ class LogOddsGrid:
             hi = np.maximum(ends.max(axis=0), (sx, sy))
             self._cover(float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))
         g = self.geometry
-        ix0, iy0, ix1, iy1 = window or (0, 0, g.width, g.height)
+        ix0, iy0, ix1, iy1 = self._window(window)
         self._scans += 1
         ends = np.ascontiguousarray(ends, dtype=np.float64)
         _integrate(self.logodds.reshape(-1), self._occupancy.reshape(-1), self._stamp.reshape(-1), g.width,
@@ -85,6 +85,14 @@ class LogOddsGrid:
         """The grid as map_server values: percent of occupancy, -1 where never observed."""
         g = self.geometry
         return OccupancyMap(self._occupancy.copy(), g.resolution, g.origin_x, g.origin_y)
+
+    def _window(self, window: tuple[int, int, int, int] | None) -> tuple[int, int, int, int]:
+        """``window`` clipped to the grid (all of it when None): the tracer writes only inside."""
+        g = self.geometry
+        if window is None:
+            return 0, 0, g.width, g.height
+        ix0, iy0, ix1, iy1 = window
+        return max(ix0, 0), max(iy0, 0), min(ix1, g.width), min(iy1, g.height)
 
     def _cover(self, x0: float, y0: float, x1: float, y1: float) -> None:
         grown = self.geometry.grown_to_cover(x0, y0, x1, y1, GROW_STEP)

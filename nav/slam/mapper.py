@@ -205,7 +205,7 @@ class Mapper:
         corners = np.vstack([xy[moved] + sign * reach[moved, None] for xy in (now_xy, was_xy) for sign in (-1, 1)])
         (x0, y0), (x1, y1) = corners.min(axis=0), corners.max(axis=0)
         g = self.grid.geometry
-        (ix0, ix1), (iy0, iy1) = (np.clip(c, 0, n) for c, n in zip(g.cell_of([x0, x1], [y0, y1]), (g.width, g.height)))
+        (ix0, ix1), (iy0, iy1) = g.cell_of([x0, x1], [y0, y1])
         window = (int(ix0), int(iy0), int(ix1) + 1, int(iy1) + 1)
         self.grid.clear(window)
         touches = ((now_xy[:, 0] + reach >= x0) & (now_xy[:, 0] - reach <= x1) &

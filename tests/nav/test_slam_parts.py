@@ -217,3 +217,11 @@ def test_an_update_confined_to_a_window_leaves_the_rest_alone():
     outside = np.ones(after.shape, bool)
     outside[window[1]:window[3], window[0]:window[2]] = False
     assert np.array_equal(after[outside], before[outside])  # nothing outside it counted twice
+
+
+def test_a_window_reaching_past_the_grid_is_clipped_to_it():
+    g = LogOddsGrid(GridGeometry.covering(-1.0, -1.0, 1.0, 1.0, RES))
+    big = (-5, -5, g.geometry.width + 7, g.geometry.height + 3)
+    g.integrate((0.0, 0.0), np.array([[0.9, 0.9], [-0.99, 0.0]]), window=big)
+    g.clear(big)
+    assert (g.occupancy().occupancy == UNKNOWN).all() and g.geometry.width == 40
