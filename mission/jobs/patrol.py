@@ -22,7 +22,7 @@ from hw.odometry import Pose2D
 from mission.patrol.climate import ClimateSource, NoClimate
 from mission.patrol.mission_file import Mission
 from mission.patrol.report import PatrolReport
-from mission.patrol.run_picture import PotMark, draw_run
+from mission.patrol.run_picture import PotMark, contact_sheet, draw_run
 from mission.patrol.tree import PatrolTree
 from mission.runtime.config import LupinConfig, save_config
 from mission.runtime.navigation import final_map
@@ -105,6 +105,9 @@ class PatrolRun:
         if occupancy is not None:
             save_map(occupancy.cropped(), directory / "map.yaml")
         write_png(directory / "run.png", self.picture(occupancy))
+        sheet = contact_sheet(self._marks())
+        if sheet is not None:
+            write_png(directory / "contact.png", sheet)
         write_atomic(directory / "tree.txt", (self.tree.render() + "\n").encode())
         extra = {"notes": self.tree.notes} if self.tree.notes else {}
         if self.events is not None and self.events.applied:
@@ -115,6 +118,10 @@ class PatrolRun:
 
     def picture(self, occupancy: OccupancyMap | None) -> np.ndarray:
         """The map, the path the robot believed it drove, every pot by its result, thumbnails."""
+        home = self.tree.mission.home
+        return draw_run(occupancy, np.array(self.path, dtype=float).reshape(-1, 2), self._marks(), (home.x, home.y))
+
+    def _marks(self) -> list[PotMark]:
         marks = []
         for pot in self.tree.mission.pots:
             entry = self.report.pots.get(pot.id, {"status": "skipped"})
@@ -123,8 +130,7 @@ class PatrolRun:
             wrist = self.tree.visits[pot.id].wrist
             marks.append(PotMark(pot.id, pot.x, pot.y, entry["status"], bool(kinds),
                                  " ".join([pot.id, color, *kinds]).strip(), wrist.image if wrist is not None else None))
-        home = self.tree.mission.home
-        return draw_run(occupancy, np.array(self.path, dtype=float).reshape(-1, 2), marks, (home.x, home.y))
+        return marks
 
 
 def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinConfig, perception: PerceptionConfig,

@@ -14,7 +14,10 @@ Colour code (the pot discs and their thumbnails' borders):
 * grey   -- skipped or pending (not tried), and any status this module does not know.
 
 The driven path is blue with its start a blue dot; home is a purple square. Under the map a
-legend (with counts), then the thumbnails in the pots' order, each captioned with its label.
+legend (with counts), then the thumbnails in the pots' order, each captioned with its label. A
+patrol of more than ``INLINE_THUMBNAILS`` pots keeps ``run.png`` a picture of the greenhouse:
+its thumbnails go to a contact sheet beside it (``contact_sheet``, ``contact.png``), the legend
+says so, and 200 pots make a sheet to scroll, not a map lost above 7 m of tiles.
 """
 from __future__ import annotations
 
@@ -40,6 +43,9 @@ FAR_M = 10_000.0
 """Coordinates farther from the origin than this are not places (a bug upstream): not drawn."""
 BLANK_RESOLUTION, BLANK_MAX_CELLS = 0.05, 1000
 THUMB_W, THUMB_MAX_H, BORDER, GAP, PER_ROW = 160, 200, 4, 12, 6
+INLINE_THUMBNAILS = 24
+"""Most pots whose thumbnails go under the map (four rows); more go to the contact sheet."""
+CONTACT_PER_ROW = 10
 FONT = cv2.FONT_HERSHEY_SIMPLEX
 
 
@@ -136,9 +142,19 @@ def draw_run(occupancy: OccupancyMap | None, path_xy: np.ndarray, pots: Sequence
         cv2.circle(img, (c, rr), r, INK, 1, cv2.LINE_AA)
         tw = cv2.getTextSize(pot.id, FONT, 0.45, 1)[0][0]
         _text(img, pot.id, (c + r + 3 if c + r + 3 + tw < w else c - r - 3 - tw, rr + 5), 0.45, halo=True)
-    thumbs = _thumbnails(pots)
-    out = _below(img, _legend(pots, max(w, thumbs.shape[1] if thumbs is not None else 0)), thumbs)
+    thumbs = _thumbnails(pots) if len(pots) <= INLINE_THUMBNAILS else None
+    note = "" if len(pots) <= INLINE_THUMBNAILS else "thumbnails: contact.png"
+    out = _below(img, _legend(pots, max(w, thumbs.shape[1] if thumbs is not None else 0), note), thumbs)
     return _pad(out, out.shape[0] + GAP // 2, out.shape[1])
+
+
+def contact_sheet(pots: Sequence[PotMark]) -> np.ndarray | None:
+    """The thumbnails of a patrol too big to carry them under its map (``INLINE_THUMBNAILS``),
+    ten to a row in the pots' order; None for a patrol that keeps them in ``run.png``."""
+    if len(pots) <= INLINE_THUMBNAILS:
+        return None
+    out = _thumbnails(pots, CONTACT_PER_ROW)
+    return _pad(out, out.shape[0] + GAP, out.shape[1] + GAP, top=GAP)
 
 
 def _text(img: np.ndarray, text: str, org: tuple[int, int], size: float, colour=INK, halo: bool = False) -> None:
@@ -147,9 +163,10 @@ def _text(img: np.ndarray, text: str, org: tuple[int, int], size: float, colour=
     cv2.putText(img, text, org, FONT, size, colour, 1, cv2.LINE_AA)
 
 
-def _legend(pots: Sequence[PotMark], width: int) -> np.ndarray:
+def _legend(pots: Sequence[PotMark], width: int, note: str = "") -> np.ndarray:
     counts = Counter(result(p) for p in pots)
     entries = [("path", PATH), ("home", HOME)] + [(f"{name} ({counts[name]})", c) for name, c in RESULTS.items()]
+    entries += [(note, None)] if note else []
     rows, x = [[]], GAP
     for name, colour in entries:
         step = 22 + cv2.getTextSize(name, FONT, 0.5, 1)[0][0] + 18
@@ -167,6 +184,8 @@ def _legend(pots: Sequence[PotMark], width: int) -> np.ndarray:
                 cv2.line(img, (x, y), (x + 16, y), PATH, 2, cv2.LINE_AA)
             elif colour == HOME:
                 cv2.rectangle(img, (x + 2, y - 7), (x + 15, y + 6), HOME, 2)
+            elif colour is None:  # a note, no swatch
+                pass
             else:
                 cv2.circle(img, (x + 8, y), 7, colour, -1, cv2.LINE_AA)
                 cv2.circle(img, (x + 8, y), 7, INK, 1, cv2.LINE_AA)
@@ -211,12 +230,12 @@ def _wrap(text: str, width: int, lines: int = 2) -> list[str]:
     return out
 
 
-def _thumbnails(pots: Sequence[PotMark]) -> np.ndarray | None:
-    """The tiles in rows of PER_ROW, in the given order; None when there are no pots."""
+def _thumbnails(pots: Sequence[PotMark], per_row: int = PER_ROW) -> np.ndarray | None:
+    """The tiles in rows of ``per_row``, in the given order; None when there are no pots."""
     if not pots:
         return None
     tiles = [_thumbnail(p) for p in pots]
-    rows = [tiles[k:k + PER_ROW] for k in range(0, len(tiles), PER_ROW)]
+    rows = [tiles[k:k + per_row] for k in range(0, len(tiles), per_row)]
     strips = [np.hstack([_pad(t, max(u.shape[0] for u in row), t.shape[1] + GAP) for t in row]) for row in rows]
     return _below(*strips, left=GAP)
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from mission.patrol.run_picture import GREEN, GREY, ORANGE, PATH, RED, PotMark, canvas, draw_run
+from mission.patrol.run_picture import GREEN, GREY, ORANGE, PATH, RED, PotMark, canvas, contact_sheet, draw_run
 from nav.map_render import default_scale, render_map, to_pixel
 from nav.occupancy import OccupancyMap
 
@@ -163,3 +163,14 @@ def test_absurd_coordinates_do_not_crash_nor_make_a_huge_picture(occupancy):
     assert max(img.shape[:2]) < 2000
     c, s = canvas(occupancy, path, pots, (float("inf"), 0.0))
     assert at(img, c, s, 1.0, 2.0) == GREEN
+
+
+def test_a_big_patrol_keeps_its_map_readable_and_puts_its_thumbnails_on_a_contact_sheet():
+    m = room()
+    thumb = np.full((120, 160, 3), 200, np.uint8)
+    pots = [pot(f"P{k:03d}", 0.2 + 0.02 * k, 1.0, thumbnail=thumb) for k in range(200)]
+    img = draw_run(m, np.empty((0, 2)), pots)
+    assert img.shape[0] < render_map(m).shape[0] + 100  # the map and a legend line, no tiles
+    sheet = contact_sheet(pots)
+    assert sheet is not None and sheet.shape[0] >= 20 * 150 and sheet.shape[1] >= 10 * 160  # 20 rows of 10
+    assert contact_sheet(pots[:24]) is None and draw_run(m, np.empty((0, 2)), pots[:24]).shape[0] > img.shape[0]
