@@ -1,12 +1,15 @@
 """The NavFn planner: smooth paths on the potential, Nav2's cost model, tolerance, failures."""
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 from nav.config import PlannerConfig
 from nav.costmap.grid import FREE, INSCRIBED, LETHAL, UNKNOWN, CostGrid
 from nav.costmap.inflation import InflationLayer
+import nav.planner as navfn
 from nav.planner import NavfnPlanner, PlanningError, crossing_costs
 from tests.nav.builders import draw_disc, dummy_costmap, greenhouse_grid
 
@@ -151,3 +154,25 @@ def test_a_long_serpentine_path_is_followed_to_the_end():
     path = planner().plan(grid, start, goal)
     check_path(grid, path, start, goal)
     assert np.hypot(*np.diff(path, axis=0).T).sum() > 300.0  # > 6000 cells: the descent's buffer grew
+
+
+def test_the_descent_does_not_circle_where_known_floor_meets_unknown_ground(monkeypatch):
+    """A real global costmap 3 s after leaving the dock of a 25 m greenhouse: a strip of floor
+    seen down the aisle, unknown round it (crossing costs 50 against 253). Planning 21 m along
+    it, the interpolated gradient circled a saddle 7 m out and never got lower (it runs here as
+    Python, where the stall limit can be lifted to show it); stepping to the lowest cell after
+    ``STALL_STEPS`` without progress gets it home."""
+    saved = np.load(Path(__file__).parent / "data" / "dock_view_25m.npz")
+    grid = CostGrid(saved["data"], float(saved["resolution"]), *(float(v) for v in saved["origin"]))
+    path = NavfnPlanner(PlannerConfig()).plan(grid, (0.0, 0.0), (21.0, 0.5))
+    assert np.allclose(path[-1], (21.0, 0.5)) and np.hypot(*np.diff(path, axis=0).T).sum() < 1.1 * 21.0
+    h, w = grid.data.shape
+    cost = np.full((h + 2, w + 2), navfn.OBSTACLE, np.uint8)
+    cost[1:-1, 1:-1] = crossing_costs(grid.data, True)
+    (sx, gx), (sy, gy) = (v.astype(int) + 1 for v in grid.geometry.cell_of([0.0, 21.0], [0.0, 0.5]))
+    cost[sy, sx] = navfn.NEUTRAL
+    pot = navfn.propagate(cost.ravel(), w + 2, int(sy * (w + 2) + sx), int(gy * (w + 2) + gx))
+    walk = lambda: navfn.descend.py_func(pot, cost.ravel(), w + 2, float(gx), float(gy), float(sx), float(sy))  # noqa: E731
+    assert len(walk()) > 400
+    monkeypatch.setattr(navfn, "STALL_STEPS", 10 ** 9)
+    assert len(walk()) == 0  # stuck: the descent circles the saddle
