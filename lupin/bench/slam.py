@@ -1,4 +1,4 @@
-"""SLAM benchmarks on a patrol-length survey of the default greenhouse (``mission.jobs.survey``).
+"""SLAM benchmarks on a patrol-length survey of the default greenhouse (``mission.jobs.slam_drive``).
 
 One live run: the robot visits every pot's approach pose and returns home with SLAM in its
 worker owning ``map -> odom``. Its log is then judged three ways side by side on the same scans:
@@ -18,7 +18,7 @@ from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
 from lupin.bench import Sample, benchmark
 from mission.jobs.map_quality import map_quality
-from mission.jobs.survey import drifted, survey
+from mission.jobs.slam_drive import drifted, survey
 from mission.runtime.config import LupinConfig, with_seed
 from nav.frames import from_matrix
 from nav.slam.lidar_odometry import kiss_config

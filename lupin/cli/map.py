@@ -63,7 +63,7 @@ def save(
     """Map the simulated greenhouse with SLAM (a survey: every pot's approach pose, then home)
     and save the map; its frame is the robot's start pose, as a patrol's. With --connect, save
     the map a running runtime holds now (as its link sends it)."""
-    from mission.jobs.survey import map_world
+    from mission.jobs.slam_drive import map_world
     from nav.map_io import save_map
 
     _yaml_output(output)

@@ -1,4 +1,5 @@
-"""A survey drive: every pot's approach pose in turn, then home, recording what SLAM is judged on.
+"""A SLAM drive: every pot's approach pose (from the world file) in turn, then home, recording
+what SLAM is judged on (the SLAM benchmarks and ``lupin map save`` in the sim).
 
 The patrol-length drive of the SLAM issue: through every aisle of a greenhouse, as a patrol
 goes, with the whole stack live (SLAM in its worker owning ``map -> odom``, navigation steering

@@ -12,7 +12,7 @@ import pytest
 from hw.odometry import Pose2D
 from mission.jobs.map_quality import map_quality
 from mission.jobs.navigate import start_navigate
-from mission.jobs.survey import drifted, survey
+from mission.jobs.slam_drive import drifted, survey
 from mission.runtime.config import load_config
 from mission.runtime.navigation import MapResetError, clear_map
 from nav.costmap.grid import INSCRIBED, UNKNOWN
