@@ -1,0 +1,78 @@
+"""Where to look at the pots from, found in the map alone: the survey's plan for reading tags.
+
+Pots are what the lidar sees as small things standing apart: 8-connected clusters of occupied
+cells (map_server occupied: 65..100) no larger than ``max_size`` across, unlike walls, benches
+and the greenhouse's frame. A cluster is the arc of the pot's side the lidar saw, so its centre
+lies up to a pot radius off the pot's; ``near`` below allows for it.
+
+A pot's tag is on its aisle side, which the map cannot tell (in a greenhouse on a square grid,
+aisles and the gaps along a row look alike to a lidar), so every pot gets a *look* from each of
+the four sides the lattice of pots runs along: a pose ``standoff`` out (the patrol's approach
+distance, where the front camera frames a plate head-on) looking back at it, kept when the
+robot's body fits there (costmap below inscribed, on seen ground). The lattice's direction is
+the pots' own: the mean bearing to each pot's nearest neighbour, folded into -45..45 deg, so a
+greenhouse mapped from a dock at an angle to its rows still gets its looks down the aisles.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from nav.costmap.grid import INSCRIBED, UNKNOWN, CostGrid
+from nav.occupancy import OccupancyMap
+
+OCCUPIED = 65
+"""map_server's occupied threshold (0.65) in the map's 0..100."""
+
+
+@dataclass(frozen=True)
+class Look:
+    x: float
+    y: float
+    yaw: float
+    """The pose to look from, map frame (facing the pot)."""
+    pot: int
+    """Index of the pot looked at (``pot_blobs``)."""
+
+
+def pot_blobs(occupancy: OccupancyMap, max_size: float = 0.45, min_cells: int = 2) -> np.ndarray:
+    """(N, 2) map-frame centres of the small occupied clusters: the pots the lidar saw."""
+    occupied = (occupancy.occupancy >= OCCUPIED).astype(np.uint8)
+    n, labels, stats, centroids = cv2.connectedComponentsWithStats(occupied, connectivity=8)
+    res = occupancy.resolution
+    small = [k for k in range(1, n) if stats[k, cv2.CC_STAT_AREA] >= min_cells
+             and max(stats[k, cv2.CC_STAT_WIDTH], stats[k, cv2.CC_STAT_HEIGHT]) * res <= max_size]
+    if not small:
+        return np.zeros((0, 2))
+    cx, cy = centroids[small, 0], centroids[small, 1]  # pixel (column, row) centres of mass
+    return np.column_stack([occupancy.origin_x + (cx + 0.5) * res, occupancy.origin_y + (cy + 0.5) * res])
+
+
+def lattice_angle(pots: np.ndarray) -> float:
+    """The direction the pots are laid out along, -pi/4..pi/4: the mean bearing to each pot's
+    nearest neighbour on a circle of period 90 deg (0 with fewer than two pots)."""
+    if len(pots) < 2:
+        return 0.0
+    d = pots[:, None, :] - pots[None, :, :]
+    dist = np.hypot(d[..., 0], d[..., 1])
+    np.fill_diagonal(dist, np.inf)
+    k = np.argmin(dist, axis=1)
+    bearing = np.arctan2(d[np.arange(len(pots)), k, 1], d[np.arange(len(pots)), k, 0]) % (math.pi / 2)
+    return float(np.angle(np.exp(4j * bearing).mean()) / 4)  # a period of 90 deg: 1 and 89 deg agree
+
+
+def looks(pots: np.ndarray, costmap: CostGrid, standoff: float) -> list[Look]:
+    """The looks at each pot from the four sides along the lattice where the robot fits."""
+    base = lattice_angle(pots)
+    out = []
+    for i, (px, py) in enumerate(pots):
+        for k in range(4):
+            a = base + k * math.pi / 2
+            x, y = px + standoff * math.cos(a), py + standoff * math.sin(a)
+            cost = int(costmap.cost_at(x, y))
+            if cost < INSCRIBED and cost != UNKNOWN:
+                out.append(Look(float(x), float(y), math.atan2(math.sin(a + math.pi), math.cos(a + math.pi)), i))
+    return out

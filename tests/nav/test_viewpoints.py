@@ -1,0 +1,59 @@
+"""Pots found in the map as small things standing apart, the lattice they stand on, and the
+looks at them from every side the robot fits."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from nav.costmap.grid import CostGrid, FREE, INSCRIBED, LETHAL
+from nav.costmap.inflation import InflationLayer
+from nav.occupancy import OccupancyMap
+from nav.viewpoints import lattice_angle, looks, pot_blobs
+
+
+def greenhouse(angle: float = 0.0) -> tuple[OccupancyMap, list[tuple[float, float]]]:
+    """A 6 x 5 m map, walls round it, 3 x 2 pots 1 m apart on a lattice turned by ``angle``;
+    each pot seen as the arc of its side facing south-west (as the lidar would from the dock)."""
+    occ = np.zeros((100, 120), np.int8)
+    occ[0, :] = occ[-1, :] = occ[:, 0] = occ[:, -1] = 100
+    c, s = math.cos(angle), math.sin(angle)
+    centres = [(2.0 + c * i - s * j, 1.8 + s * i + c * j) for i in range(3) for j in range(2)]
+    for px, py in centres:
+        for t in np.linspace(math.pi, 1.5 * math.pi, 12):
+            occ[int((py + 0.1 * math.sin(t)) / 0.05), int((px + 0.1 * math.cos(t)) / 0.05)] = 100
+    return OccupancyMap(occ, 0.05, 0.0, 0.0), centres
+
+
+def costmap_of(m: OccupancyMap) -> CostGrid:
+    raw = np.where(m.occupancy >= 65, LETHAL, FREE).astype(np.uint8)
+    return CostGrid(InflationLayer(0.05, 0.22, 0.25, 5.0).apply(raw), 0.05, 0.0, 0.0)
+
+
+def test_pots_are_the_small_clusters_and_the_walls_are_not():
+    m, centres = greenhouse()
+    blobs = pot_blobs(m)
+    assert len(blobs) == 6
+    for px, py in centres:  # each within a pot radius of a true centre (the arc is one side)
+        assert np.hypot(blobs[:, 0] - px, blobs[:, 1] - py).min() < 0.1
+
+
+@pytest.mark.parametrize("angle", [0.0, 0.3, -0.2])
+def test_the_lattice_angle_is_the_rows_direction_folded_to_a_right_angle(angle):
+    m, _ = greenhouse(angle)
+    assert lattice_angle(pot_blobs(m)) == pytest.approx(angle, abs=0.05)
+
+
+def test_looks_face_their_pot_from_each_side_the_robot_fits():
+    m, _ = greenhouse()
+    blobs = pot_blobs(m)
+    cm = costmap_of(m)
+    views = looks(blobs, cm, 0.5)
+    assert all(int(cm.cost_at(v.x, v.y)) < INSCRIBED for v in views)
+    for v in views:  # half a metre out, facing the pot
+        px, py = blobs[v.pot]
+        assert math.hypot(px - v.x, py - v.y) == pytest.approx(0.5)
+        assert math.atan2(py - v.y, px - v.x) == pytest.approx(v.yaw, abs=1e-6)
+    per_pot = np.bincount([v.pot for v in views], minlength=len(blobs))
+    assert per_pot.min() >= 3 and per_pot.max() == 4  # the side by a wall is too tight for some
