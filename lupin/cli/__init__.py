@@ -31,6 +31,7 @@ from lupin.cli.scenario import scenario_app
 from lupin.cli.console import console
 from lupin.cli.serve import serve
 from lupin.cli.sim import run_config, sim_app
+from lupin.cli.survey import survey
 
 app = typer.Typer(
     name="lupin",
@@ -48,6 +49,7 @@ app.add_typer(scenario_app, name="scenario")
 app.command("detect")(detect)
 app.command("heal")(heal)
 app.command("patrol")(patrol)
+app.command("survey")(survey)
 app.command("serve")(serve)
 app.command("console")(console)
 

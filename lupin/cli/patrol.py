@@ -42,6 +42,46 @@ def check_report(report: Path) -> None:
         raise InputError(f"--report {report}: cannot create {report.parent}: {exc.strerror}") from None
 
 
+def surveyed_patrol(config, backend: Backend, world: Optional[Path], events: Optional[Path], report: Path):
+    """Survey first, then patrol what the survey found on the same running robot (its map and
+    SLAM carry on); the survey's mission, map, report and picture go to ``survey/`` beside the report."""
+    from mission.jobs.survey import run_to_end, start_hw_survey, write_survey
+
+    check_report(report)
+    out = report.parent / "survey"
+    out.mkdir(parents=True, exist_ok=True)
+    if backend is Backend.hw:
+        if world is not None or events is not None:
+            raise InputError("lupin patrol --backend hw --survey: --world and --events are for the sim")
+        survey_run, sim_run, name = start_hw_survey(config), None, "greenhouse-survey"
+    else:
+        from mission.jobs.sim_survey import start_sim_survey
+        from mission.patrol.events_file import load_events
+
+        w = world_or_default(world)
+        script = [] if events is None else load_events(events, config)
+        (survey_run, sim_run), name = start_sim_survey(w, config), f"{w.name}-survey"
+    t0 = time.perf_counter()
+    try:
+        run_to_end(survey_run)
+        write_survey(survey_run, out / "mission.yaml", out / "map.yaml", out / "survey.json", name, time.perf_counter() - t0)
+        mission = survey_run.mission(name)
+        if not mission.pots:
+            raise InputError(f"lupin patrol --survey: the survey found no pots (see {out / 'survey.json'})")
+    except BaseException:
+        survey_run.close()
+        raise
+    print(f"survey: {len(mission.pots)} pots found, {survey_run.now - survey_run.t0:.0f} s robot time; patrolling them")
+    if sim_run is None:
+        from mission.jobs.patrol import start_patrol
+
+        return start_patrol(survey_run.robot, survey_run.nav, mission, survey_run.config, config.perception, report,
+                            time.perf_counter, survey_run.close)
+    from mission.jobs.sim_patrol import start_sim_patrol
+
+    return start_sim_patrol(w, mission, survey_run.config, report, time.perf_counter, script, sim_run=sim_run)
+
+
 def check_map(mission, saved_map: Optional[Path]) -> None:
     """A ``--map`` must load and cover every pot of the mission (exit 2 naming the pots)."""
     if saved_map is None:
@@ -87,6 +127,8 @@ def patrol(
     record: bool = typer.Option(False, "--record", help="Also record the run for Foxglove: run.mcap beside the report."),
     saved_map: Optional[Path] = typer.Option(None, "--map", help="Localise (AMCL) on this saved map (map_server YAML) "
                                              "instead of mapping from the dock; it must cover every pot."),
+    survey: bool = typer.Option(False, "--survey", help="Survey the greenhouse first (lupin survey) and patrol the "
+                                "mission it finds; what it wrote goes to survey/ beside the report."),
 ) -> None:
     """Run a scripted patrol mission to its end and write the report."""
     from mission.jobs.patrol import run_to_end, start_hw_patrol
@@ -97,7 +139,12 @@ def patrol(
         config = with_overrides(config, {"sim": {"realtime": True}})
     if saved_map is not None:
         config = with_overrides(config, {"nav": {"slam": False, "map_file": str(saved_map)}})
-    if backend is Backend.hw:
+    if survey and (mission is not None or saved_map is not None):
+        raise InputError("lupin patrol --survey: the survey writes the mission and maps as it goes; "
+                         "give neither --mission nor --map")
+    if survey:
+        run = surveyed_patrol(config, backend, world, events, report)
+    elif backend is Backend.hw:
         if mission is None or world is not None:
             raise InputError("lupin patrol --backend hw: give --mission (and no --world: the robot patrols its real greenhouse)")
         if events is not None:
@@ -116,6 +163,7 @@ def patrol(
         script = [] if events is None else load_events(events, config)
         check_report(report)
         run = start_sim_patrol(w, m, config, report, time.perf_counter, script)
+    m = run.tree.mission
     if record:
         from mission.record.mcap_file import record_patrol
 

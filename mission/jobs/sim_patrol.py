@@ -11,7 +11,7 @@ from typing import Callable
 
 from hw.odometry import Pose2D
 from mission.jobs.events import EventPlayer
-from mission.jobs.navigate import start_navigate
+from mission.jobs.navigate import NavigateRun, start_navigate
 from mission.jobs.patrol import PatrolRun, start_patrol
 from mission.patrol.climate import TableClimate
 from mission.patrol.mission_file import Mission
@@ -32,10 +32,11 @@ def sim_perception(config: LupinConfig) -> PerceptionConfig:
 
 
 def start_sim_patrol(world: World, mission: Mission, config: LupinConfig, report_path: Path,
-                     wall_now: Callable[[], float], events: list = ()) -> PatrolRun:
+                     wall_now: Callable[[], float], events: list = (), sim_run: NavigateRun | None = None) -> PatrolRun:
     """The patrol on the simulated greenhouse: the world's climate, truth for judging, and the
-    events file's actions (``mission.jobs.events``) on the runtime clock from the start."""
-    sim_run = start_navigate(world, config)
+    events file's actions (``mission.jobs.events``) on the runtime clock from the start; on the
+    running sim ``sim_run`` when given (a survey's, patrolling what it found)."""
+    sim_run = sim_run or start_navigate(world, config)
 
     def truth_error(goal: Pose2D) -> dict[str, float]:
         return pose_error(sim_run.to_map(sim_run.sim.truth()), goal)

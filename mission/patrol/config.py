@@ -41,9 +41,43 @@ class PatrolConfig(BaseModel):
     front_camera_mount: tuple[float, float, float] = (0.1625, 0.0, 0.15)
     """Front camera optical centre in base_link, m (the model's mount; on the robot: its URDF),
     looking along +x: places the tags it reads in the map."""
+    plate_offset: float = Field(0.104, gt=0)
+    """From a tag's printed face to its pot's centre along the pot's facing, m: the pot's radius
+    and the plate's thickness (sim: 0.10 m pot, 3 mm card, 1 mm print). A tag read then places its
+    pot (``mission.patrol.tag_sightings``)."""
     discovered_max_distance: float = Field(1.5, gt=0)
     """Tags seen en route are placed on the map only when read nearer than this, m: further
     away the pose from a 10 cm tag is too coarse to say which pot it is on."""
     discovered_merge: float = Field(0.3, gt=0)
     """Two sightings of the same tag id within this distance, m, are one discovered tag
     (their positions are averaged)."""
+
+
+class SurveyConfig(BaseModel):
+    """`lupin survey`: exploring a greenhouse and finding its pots by their tags."""
+
+    model_config = ConfigDict(extra="forbid", use_attribute_docstrings=True)
+
+    max_time: float = Field(3600.0, gt=0)
+    """Robot seconds the survey may take before it writes what it found and goes home."""
+    frontier_min_cells: int = Field(10, ge=1)
+    """A frontier counts from this many cells (0.5 m of boundary at 0.05 m): smaller ones are the
+    shadows pots cast, which close as the robot moves."""
+    standoff: float = Field(0.5, gt=0)
+    """Looks at a pot stand this far from its centre, m: the patrol's approach distance, where the
+    front camera frames a plate head-on."""
+    pot_max_size: float = Field(0.45, gt=0)
+    """Occupied clusters of the map up to this size across are pots to look at, m."""
+    found_radius: float = Field(0.35, gt=0)
+    """A pot of the map is found once a tag puts a pot within this distance of it, m (the map's
+    cluster is the side of the pot the lidar saw, up to a radius off its centre)."""
+    found_read: float = Field(0.8, gt=0)
+    """... by a read from no farther than this, m."""
+    goal_timeout: float = Field(40.0, gt=0)
+    """Robot seconds for one drive (to a frontier or a look) before it is given up."""
+    front_rate: float = Field(5.0, gt=0, le=30)
+    """Front frames per second while surveying, Hz: the tags are read on the move, strafing down
+    the aisles, so more frames than a patrol's 2 Hz."""
+    turn_cost: float = Field(0.3, ge=0)
+    """Metres a quarter turn is worth when ordering the looks: looks the same way along an aisle
+    follow each other, so the base strafes down it with its camera on the plants."""

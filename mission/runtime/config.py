@@ -21,7 +21,7 @@ from hw.atomic_file import write_atomic
 from hw.errors import InputError
 from hw.input_file import read_yaml
 from mission.link.config import LinkConfig
-from mission.patrol.config import PatrolConfig
+from mission.patrol.config import PatrolConfig, SurveyConfig
 from nav.config import NavConfig
 from perception.config import PerceptionConfig
 from sim.config import SimConfig
@@ -47,6 +47,8 @@ class LupinConfig(BaseModel):
     """The MuJoCo greenhouse backend."""
     patrol: PatrolConfig = PatrolConfig()
     """The patrol mission: its beat, the waits around the cameras, what counts as a pot's tag."""
+    survey: SurveyConfig = SurveyConfig()
+    """`lupin survey`: exploring a greenhouse and finding its pots by their tags."""
     link: LinkConfig = LinkConfig()
     """The operator link (Zenoh): robot name, endpoint, token, telemetry rates."""
 
