@@ -122,6 +122,18 @@ def _is_model(t: Any) -> bool:
     return isinstance(t, type) and issubclass(t, BaseModel)
 
 
+def _holder(model: type[BaseModel] | None, path: list[Any]) -> type[BaseModel] | None:
+    """The model holding the last field of a nested path (``estop.speed`` -> the estop entry's),
+    so an unknown key lists the keys allowed where it is; list indices keep the entry model."""
+    for name in path:
+        if isinstance(name, int) or model is None:
+            continue
+        field = model.model_fields.get(name)
+        inner = [a for a in typing.get_args(field.annotation) or (field.annotation,) if _is_model(a)] if field else []
+        model = inner[0] if inner else None
+    return model
+
+
 def error_lines(exc: ValidationError, data: dict[str, Any], root: type[BaseModel]) -> list[str]:
     """One ``<entry>: field '<name>': <what is wrong>`` line per error of ``exc``."""
     return [_format_error(err, data, root) for err in exc.errors()]
@@ -145,7 +157,7 @@ def _format_error(err: dict[str, Any], data: dict[str, Any], root: type[BaseMode
             entry, rest, model = str(loc[0]), loc[1:], entry_model
     if rest == ["[key]"]:
         return f"{entry}: key {loc[1]!r}: must be an integer id"
-    what = describe(err, model if rest else root)
+    what = describe(err, _holder(model, rest[:-1]) if rest else root)
     if not rest:
         return f"{entry}: {what}"
     return f"{entry}: field '{'.'.join(str(p) for p in rest)}': {what}"

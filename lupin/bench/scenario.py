@@ -2,9 +2,11 @@
 
 ``scenario.suite`` runs every scenario in two worker processes (this machine's two cores, as
 ``pytest -n 2`` does) and reports how many there are and passed, the suite's wall time, the
-per-scenario wall times (median / p95), and the e-stop figures over every scripted press: the
-worst number of control ticks from the press to all-zero wheel duty, and the greatest true
-distance the robot travelled after a press (the coast), with its speed at the press.
+per-scenario wall times (median / p95), and the e-stop figures over every press: the worst
+number of control ticks from the press to all-zero wheel duty, the greatest true distance the
+robot travelled after a press (the coast) with its speed at the press, and the slowest true
+speed any press found the robot at (a press at rest tests nothing). Then each judged event's
+effect per scenario (``mission.scenario.effects``) and the events that never fired.
 """
 from __future__ import annotations
 
@@ -38,6 +40,8 @@ def suite(config: LupinConfig) -> Sample:
     presses = [(r["name"], p) for r in results for p in r["estop"]]
     worst = max(presses, key=lambda rp: rp[1]["ticks_to_zero"] or 10**6)
     coast = max(presses, key=lambda rp: rp[1]["distance_after_m"])
+    slowest = min(presses, key=lambda rp: rp[1]["speed_mps"])
+    events = [(r["name"], e) for r in results for e in r["events"]]
     return Sample([r["wall_time_s"] * 1000.0 for r in results], {
         "scenarios": len(results), "passed": sum(r["passed"] for r in results),
         "failed": [r["name"] for r in results if not r["passed"]],
@@ -45,4 +49,8 @@ def suite(config: LupinConfig) -> Sample:
         "estop_presses": len(presses), "estop_worst_ticks": worst[1]["ticks_to_zero"],
         "estop_max_distance_m": coast[1]["distance_after_m"], "estop_max_distance_speed_mps": coast[1]["speed_mps"],
         "estop_max_distance_scenario": coast[0],
-        "estop": [{"scenario": n, **p} for n, p in presses]})
+        "estop_min_speed_mps": slowest[1]["speed_mps"], "estop_min_speed_scenario": slowest[0],
+        "estop": [{"scenario": n, **p} for n, p in presses],
+        "events_not_fired": [f"{n}: events[{e['index']}] ({e['do']})" for n, e in events if e["fired"] is None],
+        "effects": [{"scenario": n, "do": e["do"], "fired": e["fired"], "speed_mps": e["speed_mps"], **e["effect"]}
+                    for n, e in events if e["effect"]]})

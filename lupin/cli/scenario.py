@@ -3,7 +3,8 @@
 Every file, and every world, mission and events list it names, is read and checked before the
 first one runs: one bad file is exit 2 with its file, entry and field named, and nothing moved.
 Then each runs in turn and prints each expectation with pass or fail and, for a failure, what
-was expected and what happened (``--json``: one object per scenario per line). Each run's report
+was expected and what happened (``--json``: one object per scenario per line, with the e-stop
+figures and each event's fired time and effect). Each run's report
 directory is ``--out/<scenario name>/``. Exit 0 when every expectation held, else 1.
 """
 from __future__ import annotations

@@ -10,10 +10,17 @@ the e-stop bridge, the soft stop and ``resume`` / ``pause`` through the operator
 teleop through the twist_mux source it names (published at ``TELEOP_RATE`` for ``duration``; the
 mux times it out after), faults through ``sim.faults``, ``clear_map`` through the runtime's map
 reset. Nothing here touches the mission tree.
+
+An event with ``when_moving: V`` is instead a task at the control rate from the first control
+beat at or after ``at`` (the sim patrol starts on a beat): it fires on the first beat at which
+the base's wheel odometry, measured by that beat's base tick, says the base drives at V m/s or
+faster. It keeps its place in the file order (registered with the others, before the mission's
+tick). One whose condition never comes true is never fired: absent from ``fired``.
 """
 from __future__ import annotations
 
 import logging
+import math
 from dataclasses import dataclass, field
 
 from hw.interfaces import Twist
@@ -29,6 +36,8 @@ log = logging.getLogger("lupin.events")
 TELEOP_RATE = 20.0
 """A joystick / console publishes its twist at 20 Hz (well inside the mux's 0.3 s joy timeout)."""
 
+_NS = 1_000_000_000
+
 
 @dataclass
 class EventPlayer:
@@ -39,16 +48,36 @@ class EventPlayer:
     applied: list[dict] = field(default_factory=list)
     """``{"t", "do"}`` of every event applied, t from the mission's start (the report's
     ``events``); a refused ``resume`` also says why."""
+    fired: dict[int, float] = field(default_factory=dict)
+    """Runtime time each event was applied at, by its index in the events list (a judge's
+    record: an event whose ``when_moving`` never came true is absent)."""
 
     def schedule(self, events: list, t0: float) -> None:
+        sched = self.robot.scheduler
         for i, event in enumerate(events):
-            self.robot.scheduler.at(f"event.{i}.{event.do}", t0 + event.at,
-                                    lambda now, e=event, i=i: self._apply(i, e, now, t0))
+            name, apply = f"event.{i}.{event.do}", lambda now, e=event, i=i: self._apply(i, e, now, t0)
+            if event.when_moving is None:
+                sched.at(name, t0 + event.at, apply)
+            else:
+                rate = self.robot.config.hw.base.control_rate
+                sched.every(name, rate, self._when_moving(name, event.when_moving, apply),
+                            offset=t0 + _first_beat(event.at, rate) - sched.clock.now())
+
+    def _when_moving(self, name: str, speed: float, apply):
+        odometry = self.robot.base.odometry
+
+        def check(now: float) -> None:
+            if math.hypot(odometry.twist.vx, odometry.twist.vy) >= speed:
+                self.robot.scheduler.cancel(name)
+                apply(now)
+
+        return check
 
     def _apply(self, i: int, e, now: float, t0: float) -> None:
-        log.info("event at t=%.2f: %s", now - t0, e.model_dump(exclude={"at"}))
+        log.info("event at t=%.2f: %s", now - t0, e.model_dump(exclude={"at", "when_moving"}))
         entry = {"t": round(now - t0, 3), "do": e.do}
         self.applied.append(entry)
+        self.fired[i] = now
         f, robot = self.faults, self.robot
         match e:
             case ev.EStop():
@@ -90,3 +119,10 @@ class EventPlayer:
             mux.publish(e.source, twist, t)
 
         sched.every(name, TELEOP_RATE, publish)
+
+
+def _first_beat(at: float, rate: float) -> float:
+    """The first control beat at or after ``at`` s from the start (a beat every ``1 / rate``),
+    in whole nanoseconds as the scheduler keeps them."""
+    period = round(_NS / rate)
+    return -(-round(at * _NS) // period) * period / _NS

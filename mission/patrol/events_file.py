@@ -11,7 +11,8 @@ Beyond spec/events.md, two fields the spec leaves out and the issue's faults nee
 ``servo_stall`` takes ``mode: unload | latch`` (default ``unload``, the spec's "goes limp"), and
 ``camera_dropout {camera, duration}`` makes a camera deliver no frames, as a USB camera that
 stalls does. Same-instant events apply in file order; :func:`load_events` returns them sorted by
-``at`` (stable).
+``at`` (stable). Any event may add ``when_moving: V``: it then waits from ``at`` for the first
+control tick at which the base drives at V m/s or faster (``mission.jobs.events``).
 """
 from __future__ import annotations
 
@@ -32,6 +33,10 @@ TELEOP_SOURCES = ("joy", "manual")
 class _Event(StrictEntry):
     at: float = Field(ge=0)
     """Seconds of runtime clock since the mission started."""
+    when_moving: Optional[float] = Field(None, gt=0)
+    """Fire at the first control tick at or after ``at`` at which the base drives at this speed
+    or faster (m/s, its wheel odometry), as a tester who waits for the robot to move would: a
+    press "while driving" stays one when the patrol's timing changes."""
 
 
 class EStop(_Event):

@@ -1,10 +1,11 @@
-"""Judging a simulated run from outside the stack: what reached the motors, where the robot
-really was. Ground truth is read here only to judge, never fed back.
+"""The scenario judge's e-stop figures, from outside the stack: what reached the motors, where
+the robot really was (``mission.scenario.motion_log``), at the instants the events really fired.
 
-``MotionLog`` listens to the sim drivetrain's duty writes (one per control tick of the base
-controller) and samples the true base pose at each. ``estop_figures`` turns it, with the
-scripted presses, releases and resumes of the events file, into the issue's e-stop figures:
+``estop_figures`` turns the log, with the presses, releases and resumes as they fired, into the
+issue's e-stop figures:
 
+* speed at press: the true base speed over the control tick up to the press (was it driving? a
+  press at rest tests nothing);
 * ticks to zero duty: control ticks after a press until one writes all-zero duties (a tick at
   the press's own instant ran before the press, so it does not count);
 * distance after press: the true path length from the press until the release (the coast);
@@ -13,44 +14,15 @@ scripted presses, releases and resumes of the events file, into the issue's e-st
 """
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from mission.patrol import events_file as ev
-from sim.backend import SimRobot
+from mission.scenario.motion_log import MotionLog
 
 STILL_M = 0.005
 """True displacement allowed while 'still', m: physics settling of a stopped base, not motion."""
-
-
-@dataclass
-class MotionLog:
-    sim: SimRobot
-    t: list[float] = field(default_factory=list)
-    duties: list[np.ndarray] = field(default_factory=list)
-    xy: list[tuple[float, float]] = field(default_factory=list)
-
-    def attach(self) -> "MotionLog":
-        self.sim.drive.listeners.append(self._write)
-        return self
-
-    def _write(self, t: float, duties: np.ndarray) -> None:
-        pose = self.sim.truth()
-        self.t.append(t)
-        self.duties.append(duties)
-        self.xy.append((pose.x, pose.y))
-
-    def after(self, start: float, end: float) -> slice:
-        """Samples strictly after ``start`` up to ``end``."""
-        t = np.asarray(self.t)
-        return slice(int(np.searchsorted(t, start, side="right")), int(np.searchsorted(t, end, side="right")))
-
-    def since(self, start: float, end: float) -> slice:
-        """From the last sample at or before ``start`` (where the robot was then) up to ``end``."""
-        s = self.after(start, end)
-        return slice(max(s.start - 1, 0), s.stop)
 
 
 @dataclass
@@ -62,7 +34,7 @@ class Press:
     resumed: float | None
     """The operator's first resume at or after the release (None: never)."""
     speed: float = 0.0
-    """True base speed over the control tick before the press, m/s (was it driving?)."""
+    """True base speed over the control tick up to the press, m/s (was it driving?)."""
     ticks_to_zero: int | None = None
     """Control ticks from the press to all-zero duty (None: never within the run)."""
     distance_after: float = 0.0
@@ -71,13 +43,14 @@ class Press:
     moved_after_release: float = 0.0
 
 
-def presses(events: list, t0: float) -> list[Press]:
+def presses(events: list, fired: dict[int, float]) -> list[Press]:
     """Each engagement of the e-stop (button or soft) with its release and resume, from the
-    events as scripted. An engagement while already engaged is part of the same press."""
+    events as they fired (``fired``: runtime time by event index; one never fired did nothing).
+    An engagement while already engaged is part of the same press."""
     button = soft = False
     out: list[Press] = []
-    for e in events:
-        t = t0 + e.at
+    for i in sorted(fired, key=lambda i: (fired[i], i)):
+        e, t = events[i], fired[i]
         was = button or soft
         if isinstance(e, ev.EStop):
             button = e.engaged
@@ -93,25 +66,26 @@ def presses(events: list, t0: float) -> list[Press]:
     return out
 
 
-def estop_figures(log: MotionLog, events: list, t0: float, end: float) -> list[Press]:
-    found = presses(events, t0)
+def estop_figures(log: MotionLog, events: list, fired: dict[int, float], end: float) -> list[Press]:
+    found, xy = presses(events, fired), log.xy
     for p in found:
-        before = log.since(p.at, p.at)
-        if before.start >= 1:
-            i = before.start
-            p.speed = math.dist(log.xy[i - 1], log.xy[i]) / max(log.t[i] - log.t[i - 1], 1e-9)
+        p.speed = log.speed_at(p.at)
         after = log.after(p.at, end)
         zero = [i for i, d in enumerate(log.duties[after]) if not np.any(d)]
         p.ticks_to_zero = zero[0] + 1 if zero else None
         coast = log.since(p.at, p.released if p.released is not None else end)
-        p.distance_after = _path_length(log.xy[coast])
+        p.distance_after = path_length(xy[coast])
         if p.released is not None:
             held = log.since(p.released, p.resumed if p.resumed is not None else end)
-            xy = np.asarray(log.xy[held]).reshape(-1, 2)
-            p.moved_after_release = float(np.max(np.hypot(*(xy - xy[0]).T))) if len(xy) else 0.0
+            p.moved_after_release = max_displacement(xy[held])
             p.still_after_release = all(not np.any(d) for d in log.duties[held]) and p.moved_after_release < STILL_M
     return found
 
 
-def _path_length(xy: list[tuple[float, float]]) -> float:
-    return float(sum(math.dist(a, b) for a, b in zip(xy, xy[1:])))
+def path_length(xy: np.ndarray) -> float:
+    return float(np.sum(np.hypot(*np.diff(xy, axis=0).T))) if len(xy) > 1 else 0.0
+
+
+def max_displacement(xy: np.ndarray) -> float:
+    """How far the base got from where the stretch began, m."""
+    return float(np.max(np.hypot(*(xy - xy[0]).T))) if len(xy) else 0.0

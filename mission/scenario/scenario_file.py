@@ -64,6 +64,52 @@ class EStopExpect(StrictEntry):
     """After every press, all four wheel duties are zero within this many control ticks."""
     still_until_resume: Optional[bool] = None
     """No wheel duty and no motion between each release and the operator's resume."""
+    min_speed_at_press: Optional[float] = Field(None, gt=0)
+    """Every press found the base driving at least this fast (m/s, ground truth over the control
+    tick up to the press): a press at rest tests nothing, so it fails this."""
+
+
+class PauseEffect(StrictEntry):
+    still_within: float = Field(1.0, gt=0)
+    """s after the pause from which, until the resume, no duty reaches past the motors' dead
+    zone and the base stands still: the tree stops its navigation on its next tick and the wheel
+    PID brakes the base in a few ticks (the base coasts a few mm after the last braking tick)."""
+    max_motion: float = Field(0.005, gt=0)
+    """True displacement allowed from then until the resume, m (settling, not motion)."""
+
+
+class DropoutEffect(StrictEntry):
+    zero_twist_within: float = Field(0.7, gt=0)
+    """s from the lidar going dark until the twist handed to the base is zero for good:
+    ``nav.navigator.scan_timeout`` (0.5 s) after the last scan (up to one 10 Hz scan period
+    before the dropout), plus a control tick."""
+    drives_again_within: float = Field(3.0, gt=0)
+    """s from the scans' return until autonomy drives the base again (the patrol goes on)."""
+
+
+class ClearMapEffect(StrictEntry):
+    map_back: float = Field(0.8, gt=0, le=1)
+    """The fraction of the cells SLAM's map knew before the reset that it must know again."""
+    within: float = Field(20.0, gt=0)
+    """s from the reset (the worker respawns ``nav.slam.respawn_delay`` = 1 s after it)."""
+
+
+class TeleopEffect(StrictEntry):
+    settle: float = Field(0.5, ge=0)
+    """s from the stick's first message until the true base twist must follow it (the wheel PID
+    and the motors' lag)."""
+    tolerance: float = Field(0.05, gt=0)
+    """Allowed difference between the true mean body twist and the stick's, per component (m/s
+    and rad/s)."""
+
+
+class EffectsExpect(StrictEntry):
+    """Each key judges every event of its kind: the event must have done what it is for."""
+
+    pause: Optional[PauseEffect] = None
+    lidar_dropout: Optional[DropoutEffect] = None
+    clear_map: Optional[ClearMapEffect] = None
+    teleop: Optional[TeleopEffect] = None
 
 
 class Expect(StrictEntry):
@@ -78,6 +124,8 @@ class Expect(StrictEntry):
     arm: Optional[str] = None
     """The arm's final preset (``home``, ``inspect``, ...)."""
     estop: Optional[EStopExpect] = None
+    effects: Optional[EffectsExpect] = None
+    """The effect each event of the named kinds must show (``mission.scenario.effects``)."""
     report_files: list[str] = []
     """Files that must exist beside the report."""
 

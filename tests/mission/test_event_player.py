@@ -5,6 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+import math
+
 from hw.interfaces import DeviceError
 from mission.jobs.sim_patrol import start_sim_patrol
 from nav.navigator import State
@@ -15,6 +17,8 @@ from sim.world import load_default_world
 
 EVENTS = [
     {"at": 0.0, "do": "controller_race", "controllers": ["mirte_base_controller"], "state": "inactive"},
+    {"at": 2.0, "do": "camera_dropout", "camera": "front", "duration": 0.1, "when_moving": 0.1},  # fires on the way to P01
+    {"at": 2.0, "do": "battery", "voltage": 9.0, "when_moving": 5.0},  # never: the base never drives that fast
     {"at": 3.5, "do": "teleop", "source": "joy", "vx": 0.0, "vy": 0.0, "wz": 0.5, "duration": 1.0},
     {"at": 5.5, "do": "estop", "engaged": True},
     {"at": 5.5, "do": "soft_estop", "engaged": True},
@@ -42,13 +46,20 @@ def test_every_action_reaches_the_stack_at_its_time(tmp_path):
     robot, sim, sched = run.robot, run.sim.sim, run.robot.scheduler
     t0 = run.report.t0
     try:
-        sources = {}
+        sources, speeds = {}, {}
         while run.elapsed < 5.45:
             run.step()
             sources[round(run.elapsed, 2)] = robot.base.source
+            speeds[round(run.elapsed, 2)] = math.hypot(robot.base.odometry.twist.vx, robot.base.odometry.twist.vy)
         assert robot.controllers.is_active("mirte_base_controller")  # healed by the start-up gate
         assert sources[4.0] == "joy" and sources[4.4] == "joy"  # the dead-man holds the wheels
         assert sources[5.0] == "auto" and run.nav.active  # 0.3 s after the stick is let go, autonomy has them
+
+        # when_moving: the first control beat from `at` on at which wheel odometry says 0.1 m/s
+        moving = round(run.events.fired[1] - t0, 2)
+        assert moving * 10 == pytest.approx(round(moving * 10), abs=1e-6)  # on a control beat
+        assert speeds[moving] >= 0.1 and all(v < 0.1 for t, v in speeds.items() if 2.0 <= t < moving)
+        assert 2 not in run.events.fired  # 5 m/s never comes: not fired
 
         sched.run_until(t0 + 5.55)
         assert run.nav.state is State.CANCELED and run.tree.current_step() == "e-stop engaged"  # same instant
@@ -75,14 +86,16 @@ def test_every_action_reaches_the_stack_at_its_time(tmp_path):
         assert robot.hal.lidar.latest_scan() is None
         with pytest.raises(DeviceError):
             robot.hal.cameras["wrist"].capture()
-        assert robot.hal.power.read().voltage == 10.5
+        assert robot.hal.power.read().voltage == 10.5  # the forced 9.0 never came
         assert slam.occupancy is None and slam.spawned == spawned  # the map is erased, the worker killed
         assert np.allclose(sim.engine.data.mocap_pos[0][:2], (6.0, 0.5))  # the first spare box
         sched.run_until(t0 + 12.5)
         assert slam.spawned == spawned + 1  # a fresh worker, respawn_delay later
         assert robot.hal.lidar.latest_scan() is not None and robot.hal.cameras["wrist"].capture().shape[2] == 3
         assert run.tree.holds.estop_events == [{"t": 5.5, "engaged": True}, {"t": 6.5, "engaged": False}]
-        assert [e["do"] for e in run.events.applied] == [e["do"] for e in EVENTS]
-        assert "still engaged" in run.events.applied[5]["refused"] and "refused" not in run.events.applied[7]
+        assert sorted(run.events.fired) == [i for i in range(len(EVENTS)) if i != 2]
+        assert sorted(e["do"] for e in run.events.applied) == sorted(e["do"] for i, e in enumerate(EVENTS) if i != 2)
+        resumes = [e for e in run.events.applied if e["do"] == "resume"]
+        assert "still engaged" in resumes[0]["refused"] and "refused" not in resumes[1]
     finally:
         run.close()

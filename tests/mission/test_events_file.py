@@ -34,6 +34,12 @@ def test_the_spec_example_reads_sorted_by_time(tmp_path):
     assert stall.mode == "unload"  # the spec's "goes limp"
 
 
+def test_any_event_may_wait_for_the_base_to_move():
+    events = parse_events([{"at": 12.0, "do": "estop", "engaged": True, "when_moving": 0.2},
+                           {"at": 20.0, "do": "estop", "engaged": False}], "e.yaml", LupinConfig())
+    assert [e.when_moving for e in events] == [0.2, None]
+
+
 def test_same_instant_events_keep_file_order():
     events = parse_events([{"at": 5.0, "do": "soft_estop", "engaged": True}, {"at": 1.0, "do": "pause"},
                            {"at": 5.0, "do": "estop", "engaged": True}], "e.yaml", LupinConfig())
@@ -47,7 +53,9 @@ def test_same_instant_events_keep_file_order():
     ([{"at": -1.0, "do": "pause"}], "e.yaml: events[0] (do pause): field 'at': must be >= 0 (got -1.0)"),
     ([{"at": 1, "do": "estop"}], "e.yaml: events[0] (do estop): field 'engaged': missing required key"),
     ([{"at": 1, "do": "estop", "engaged": "yes"}], "field 'engaged': must be true or false (got 'yes')"),
-    ([{"at": 1, "do": "pause", "for": 2}], "e.yaml: events[0] (do pause): field 'for': unknown key (allowed: at, do)"),
+    ([{"at": 1, "do": "pause", "for": 2}], "e.yaml: events[0] (do pause): field 'for': unknown key (allowed: at, when_moving, do)"),
+    ([{"at": 1, "do": "pause", "when_moving": 0}], "e.yaml: events[0] (do pause): field 'when_moving': must be > 0 (got 0)"),
+    ([{"at": 1, "do": "estop", "engaged": True, "when_moving": "fast"}], "field 'when_moving': must be a number (got 'fast')"),
     ([{"at": 1, "do": "servo_stall", "joint": "knee"}], "events[0] (do servo_stall): field 'joint': must be one of shoulder_pan"),
     ([{"at": 1, "do": "servo_stall", "joint": "elbow", "mode": "melt"}], "field 'mode': must be one of unload, latch"),
     ([{"at": 1, "do": "teleop", "source": "auto", "duration": 1.0}], "field 'source': must be one of joy, manual (got 'auto')"),

@@ -54,6 +54,11 @@ def test_patrol_events_are_checked_before_the_robot_moves(tmp_path, capsys):
     ({"name": "x", "expect": {"arm": "wave"}}, "expect: field 'arm': must be one of home"),
     ({"name": "x", "expect": {"estop": {"zero_duty_within_ticks": 0}}}, "field 'estop.zero_duty_within_ticks': must be >= 1"),
     ({"name": "x", "expect": {"home": {"within": -1}}}, "field 'home.within': must be > 0"),
+    ({"name": "x", "expect": {"estop": {"min_speed_at_press": 0}}}, "field 'estop.min_speed_at_press': must be > 0"),
+    ({"name": "x", "expect": {"effects": {"wave": {}}}}, "expect: field 'effects.wave': unknown key (allowed: pause, lidar_dropout"),
+    ({"name": "x", "expect": {"effects": {"clear_map": {"map_back": 1.5}}}}, "field 'effects.clear_map.map_back': must be <= 1"),
+    ({"name": "x", "expect": {"effects": {"pause": {"still_within": 0}}}}, "field 'effects.pause.still_within': must be > 0"),
+    ({"name": "x", "events": [{"at": 1, "do": "pause", "when_moving": -0.1}]}, "events[0] (do pause): field 'when_moving': must be > 0"),
     ({"name": "x", "expect": {"max_sim_time": "long"}}, "field 'max_sim_time': must be a number"),
     ({"name": "x", "config": {"nav": {"mppi": {"frequency": -1}}}}, "config: field 'nav.mppi.frequency'"),
     ({"name": "x", "world": "nowhere.yaml"}, "nowhere.yaml: world file not found"),
@@ -64,6 +69,19 @@ def test_scenario_mistakes_are_named(tmp_path, data, message):
     with pytest.raises(InputError) as exc:
         parse_scenario(data, tmp_path / "s.yaml", LupinConfig())
     assert message in str(exc.value)
+
+
+@pytest.mark.slow
+def test_a_press_at_rest_fails_a_scenario_that_asks_for_speed(tmp_path, capsys):
+    """Issue 18's held-out case in the sim: a press while the robot stands at a pot. Every other
+    e-stop figure passes (there was nothing to stop); the speed at the press fails the run."""
+    assert main(["scenario", "run", str(BAD / "press-at-rest.yaml"), "--json", "--out", str(tmp_path)]) == 1
+    result = json.loads(capsys.readouterr().out)
+    failed = [c for c in result["checks"] if not c["passed"]]
+    assert [c["name"] for c in failed] == ["estop.min_speed_at_press"]
+    assert failed[0]["expected"] == "every press to find the base driving at >= 0.2 m/s (true speed)"
+    assert failed[0]["actual"] == "speed at press: 0.00 m/s at 9.0 s (a press at rest tests nothing)"
+    assert result["estop"][0]["ticks_to_zero"] == 1 and result["estop"][0]["speed_mps"] < 0.01
 
 
 def test_paths_are_relative_to_the_scenario_and_the_seed_and_config_apply(tmp_path):
