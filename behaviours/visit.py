@@ -30,7 +30,11 @@ class PotVisit:
     front: Frame | None = None
     tags: tuple[TagRead, ...] = ()
     """Every whitelisted tag read in ``front``, nearest first."""
+    located: tuple[float, float, float] | None = None
+    """Where the pot's own tag put the pot (x, y, facing in the map), when it was read."""
+    moved: bool = False
+    """``located`` is far enough from the mission's pose to count as moved (and was driven to)."""
     failures: dict[str, str] = field(default_factory=dict)
-    """Step -> why it failed ('approach', 'arm', 'wrist', 'front')."""
+    """Step -> why it failed ('approach', 'search', 'arm', 'wrist', 'front')."""
     done: bool = False
     """The pot's branch has finished (inspected or failed) and been recorded."""

@@ -22,13 +22,16 @@ class GoalChecker:
     def __init__(self, config: GoalCheckerConfig):
         self.config = config
         self._xy_latched = False
+        self.xy_tolerance = config.xy_tolerance
+        """This goal's position tolerance: the config's, or a tighter one the goal asked for."""
 
-    def reset(self) -> None:
+    def reset(self, xy_tolerance: float | None = None) -> None:
         self._xy_latched = False
+        self.xy_tolerance = self.config.xy_tolerance if xy_tolerance is None else xy_tolerance
 
     def reached(self, pose: Pose2D, goal: Pose2D, twist: Twist = ZERO_TWIST) -> bool:
         c = self.config
-        if not self._xy_latched and distance(pose, goal) <= c.xy_tolerance:
+        if not self._xy_latched and distance(pose, goal) <= self.xy_tolerance:
             self._xy_latched = True
         stopped = math.hypot(twist.vx, twist.vy) <= c.stopped_velocity and abs(twist.wz) <= c.stopped_yaw_rate
         return self._xy_latched and yaw_error(pose, goal) <= c.yaw_tolerance and stopped

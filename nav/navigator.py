@@ -151,9 +151,12 @@ class Navigator:
     def active(self) -> bool:
         return self.state in (State.FOLLOWING, State.RECOVERING)
 
-    def navigate_to(self, goal: Pose2D, now: float, timeout: float | None = None) -> None:
+    def navigate_to(self, goal: Pose2D, now: float, timeout: float | None = None,
+                    xy_tolerance: float | None = None) -> None:
         """Start (or replace) a goal in the map frame; progress via ``feedback``. Before the
-        readiness cascade is active the goal fails at once, with the stage that is missing."""
+        readiness cascade is active the goal fails at once, with the stage that is missing.
+        ``xy_tolerance`` tightens the goal checker's for this goal (a look that must frame a tag
+        needs the robot there, not within the 0.25 m a patrol's approach allows)."""
         self.goal = goal
         self.state, self.reason = State.FOLLOWING, ""
         self._start, self._last_control = now, now
@@ -161,7 +164,7 @@ class Navigator:
         self._recoveries = self._replans = self._plan_failures = 0
         self._checkpoint = None
         self.path = None
-        self.goal_checker.reset()
+        self.goal_checker.reset(xy_tolerance)
         self.controller.reset()
         self.smoother.reset()
         if self.readiness is not None and not self.readiness.tick(now):

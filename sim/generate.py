@@ -30,7 +30,7 @@ import random
 
 from hw.errors import InputError
 from hw.tag_family import TAG_IDS
-from sim.world import Climate, Floor, Obstacle, Pose2, Pot, World, validate_world
+from sim.world import Climate, Floor, Obstacle, Pose2, Pot, World, validate_world, world_problems
 
 MAX_ROWS = 40
 """Largest --rows (and --pots-per-row) accepted: a 40 x 40 m greenhouse is already far beyond
@@ -159,3 +159,23 @@ def _climate(rng: random.Random) -> Climate:
         light=round(rng.uniform(5000.0, 20000.0), -2),
         soil_moisture=round(rng.uniform(0.2, 0.5), 2),
     )
+
+
+def moved_pots(world: World, seed: int, count: int, shift: tuple[float, float] = (0.05, 0.25),
+               turn: float = 0.3) -> World:
+    """``world`` after someone moved ``count`` of its pots (chosen by ``seed``): each shifted by
+    ``shift[0]``..``shift[1]`` m in a random direction and turned by up to ``turn`` rad, a move
+    redrawn until the world stays valid (no pot in another, none off the floor)."""
+    rng = random.Random(seed)
+    pots = list(world.pots)
+    for k in rng.sample(range(len(pots)), min(count, len(pots))):
+        for _ in range(100):
+            d, a = rng.uniform(*shift), rng.uniform(-math.pi, math.pi)
+            p = pots[k].model_copy(update={"x": round(pots[k].x + d * math.cos(a), 3),
+                                           "y": round(pots[k].y + d * math.sin(a), 3),
+                                           "facing": round(pots[k].facing + rng.uniform(-turn, turn), 4)})
+            trial = world.model_copy(update={"pots": pots[:k] + [p] + pots[k + 1:]})
+            if not world_problems(trial):
+                pots[k] = p
+                break
+    return world.model_copy(update={"pots": pots, "name": f"{world.name}-moved{seed}"})

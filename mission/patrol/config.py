@@ -45,6 +45,20 @@ class PatrolConfig(BaseModel):
     """From a tag's printed face to its pot's centre along the pot's facing, m: the pot's radius
     and the plate's thickness (sim: 0.10 m pot, 3 mm card, 1 mm print). A tag read then places its
     pot (``mission.patrol.tag_sightings``)."""
+    moved_xy: float = Field(0.05, gt=0)
+    """A pot its tag places farther than this from the mission's position has moved, m: the
+    robot approaches it again from where it is and the report says ``moved`` (a tag read at the
+    approach pose places its pot to about a centimetre, so an unmoved pot never trips it)."""
+    moved_yaw: float = Field(0.15, gt=0)
+    """... or turned by more than this, rad."""
+    search_radius: float = Field(1.0, gt=0)
+    """No tag where the pot should be: the pots the map shows within this distance of the
+    mission's position are looked at for it before the pot is declared ``not_found``, m."""
+    search_look_timeout: float = Field(30.0, gt=0)
+    """Seconds for the drive to one search look."""
+    search_time: float = Field(90.0, gt=0)
+    """Seconds the whole search may take before the pot is ``not_found``: a search is bounded in
+    time as in space, so a pot taken away costs a patrol a minute and a half, not the day."""
     discovered_max_distance: float = Field(1.5, gt=0)
     """Tags seen en route are placed on the map only when read nearer than this, m: further
     away the pose from a 10 cm tag is too coarse to say which pot it is on."""

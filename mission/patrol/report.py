@@ -73,16 +73,27 @@ class PatrolReport:
 
     def record(self, pot: MissionPot, visit: PotVisit, goal: Pose2D) -> None:
         """A pot's branch has ended: its entry, its anomalies and images, then the report."""
-        inspected = visit.arrived is not None
+        inspected = visit.arrived is not None and "search" not in visit.failures
         anomalies: list[tuple[str, str]] = []
-        if not inspected:
+        extra: dict[str, dict] = {}
+        if "search" in visit.failures:
+            anomalies.append(("not_found", visit.failures["search"]))
+        elif not inspected:
             anomalies.append(("unreachable", f"{visit.attempts} attempt(s): {visit.failures.get('approach', '')}"))
+        if visit.moved:
+            x, y, facing = visit.located
+            off = math.hypot(x - pot.x, y - pot.y)
+            turn = math.remainder(facing - pot.facing, 2 * math.pi)
+            anomalies.append(("moved", f"{off:.2f} m from the mission's position, turned {turn:+.2f} rad"))
+            extra["moved"] = {"x": round(x, 3), "y": round(y, 3), "facing": round(facing, 3)}
         if "arm" in visit.failures:
             anomalies.append(("arm_unavailable", visit.failures["arm"]))
         for step in ("wrist", "front"):
             if step in visit.failures:
                 anomalies.append(("no_image", f"{step} camera: {visit.failures[step]}"))
         entry = _entry(pot, "inspected" if inspected else "failed", visit.attempts)
+        if visit.located is not None:
+            entry["located"] = {k: round(v, 3) for k, v in zip(("x", "y", "facing"), visit.located)}
         if visit.failures:
             entry["failures"] = dict(visit.failures)
         if inspected:
@@ -97,7 +108,7 @@ class PatrolReport:
                 anomalies.append(("no_bloom", "no bloom in the wrist frame"))
             if f.bug:
                 anomalies.append(("bug", f"dark spot on a {f.flower} bloom"))
-        if visit.front is not None:
+        if visit.front is not None and "search" not in visit.failures:  # not found: no plate to judge
             tag = self.pots_tag(visit)
             entry["tag_read"] = tag.id if tag is not None else None
             if tag is None:
@@ -113,7 +124,7 @@ class PatrolReport:
             if frame is not None:
                 entry["images"].append(self._save_image(f"{pot.id}_{name}.jpg", frame))
         self.pots[pot.id] = entry
-        self.anomalies.extend({"kind": k, "pot": pot.id, "detail": d} for k, d in anomalies)
+        self.anomalies.extend({"kind": k, "pot": pot.id, "detail": d, **extra.get(k, {})} for k, d in anomalies)
         visit.done = True
         self.write()
 

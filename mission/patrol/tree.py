@@ -20,6 +20,9 @@
                     inspect P01                               Sequence
                       approach P01                              Retry(retries) > Timeout > NavigateTo
                       front camera P01                          ReadTags, or note no frame
+                      find P01                                  Selector: a tag there, or search for it
+                      moved P01                                 Selector: not moved, or approach again
+                                                                where its tag put it, and read it
                       wrist P01                                 arm to inspect (or aim) > DetectFlower,
                                                                 or note what failed
                       record P01
@@ -37,6 +40,11 @@ so the patrol continues with the pot in progress, from its approach. Power-low a
 patrol for the trip home (outcome ``battery_low``); a pause holds like the e-stop but needs no
 release. A paused robot does not drive home on power-low until resumed: the operator who paused
 it is in charge.
+
+Pots are found where they are (``mission.patrol.pot_finder``): the tag read at arrival places
+the pot; a pot off the mission's pose is approached again from where it is and reported
+``moved``; with no tag where the pot should be, the pots the map shows nearby are looked at for
+it before it is ``not_found``.
 
 A failed pot is recorded and the patrol goes on: every pot branch succeeds. Only the start-up
 gate (heal, readiness) can fail the tree. The tag is read first, right at arrival, while the arm
@@ -61,6 +69,7 @@ from behaviours.arm import MoveArm
 from behaviours.guard import Hold
 from behaviours.navigate import NavigateTo
 from behaviours.perceive import DetectFlower, ReadTags, WatchTags
+from behaviours.search import SearchTag
 from behaviours.steps import Check, Do, WaitUntil
 from behaviours.timeout import Timeout
 from behaviours.visit import PotVisit
@@ -69,6 +78,7 @@ from hw.odometry import Pose2D
 from mission.patrol.config import PatrolConfig
 from mission.patrol.holds import MissionHolds
 from mission.patrol.mission_file import Mission, MissionPot
+from mission.patrol.pot_finder import PotFinder
 from mission.patrol.visit_order import visit_order
 from nav.path_lengths import path_lengths
 from mission.patrol.report import PatrolReport
@@ -112,6 +122,7 @@ class PatrolTree:
     root: Behaviour | None = None
 
     def __post_init__(self) -> None:
+        self.finder = PotFinder(self.mission, self.nav, self.config)
         arm = self.robot.config.arm
         self.aim = CameraAim(arm.kinematics, arm.ik)
         self._inspect_view = view_target(PRESETS["inspect"], arm.kinematics, self.config.bloom_height)
@@ -130,7 +141,9 @@ class PatrolTree:
 
     # --- goals ---------------------------------------------------------------------------
     def approach_goal(self, pot: MissionPot) -> Pose2D:
-        return Pose2D(*self.mission.approach(pot))
+        """Where to stand for the pot: the mission's approach pose, or, once its tag has shown it
+        moved, the approach pose from where it is."""
+        return self.finder.approach(pot, self.visits[pot.id])
 
     def inspect_goal(self, pot: MissionPot, visit: PotVisit) -> tuple[object, str]:
         """``inspect`` from the ideal approach pose; from elsewhere (by the robot's belief on
@@ -232,8 +245,19 @@ class PatrolTree:
             visit.attempts += 1
 
         approach = self._drive(f"approach {pot.id}", lambda: self.approach_goal(pot), count)
-        front = self._or_note(f"front camera {pot.id}", self._timed(
-            ReadTags(f"read tag {pot.id}", cams["front"], self.tag_reader, visit, clock, c.settle), c.frame_timeout), fail("front"))
+
+        def read_front(label: str) -> Selector:
+            return self._or_note(f"{label} {pot.id}", self._timed(
+                ReadTags(f"read tag {pot.id}", cams["front"], self.tag_reader, visit, clock, c.settle), c.frame_timeout),
+                fail("front"))
+
+        front = read_front("front camera")
+        find = self._find(pot, visit)
+        moved = Selector(f"moved {pot.id}", memory=True, children=[
+            Check(f"in place {pot.id}", lambda: not visit.moved),
+            Sequence(f"approach again {pot.id}", memory=True, children=[
+                self._drive(f"approach moved {pot.id}", lambda: self.approach_goal(pot), count),
+                Do(f"arrived again {pot.id}", arrived), read_front("front camera again")])])
         inspect = self._arm(f"arm to inspect {pot.id}", lambda: self.inspect_goal(pot, visit))
         look = self._timed(DetectFlower(f"detect flower {pot.id}", cams["wrist"], self.detector, visit, clock, c.settle),
                            c.frame_timeout)
@@ -245,7 +269,8 @@ class PatrolTree:
                 visit.failures["wrist"] = why(look)
 
         def pot_failed() -> None:
-            visit.failures.setdefault("approach", why(approach))
+            if "search" not in visit.failures:
+                visit.failures.setdefault("approach", why(approach))
             if not visit.done:
                 self.report.record(pot, visit, self.approach_goal(pot))
 
@@ -254,10 +279,36 @@ class PatrolTree:
         record = Do(f"record {pot.id}", lambda: self.report.record(pot, visit, self.approach_goal(pot)))
         stow = self._or_note(f"stow arm {pot.id}", self._arm(f"arm to travel {pot.id}", self._travel), fail("stow"))
         inspect_pot = Sequence(f"inspect {pot.id}", memory=True, children=[
-            approach, Do(f"arrived {pot.id}", arrived), front, wrist, record, stow])
+            approach, Do(f"arrived {pot.id}", arrived), front, find, moved, wrist, record, stow])
         failed = Do(f"{pot.id} failed", pot_failed)
         return OneShot(pot.id, Selector(f"visit {pot.id}", memory=True, children=[inspect_pot, failed]),
                        OneShotPolicy.ON_COMPLETION)
+
+    def _find(self, pot: MissionPot, visit: PotVisit) -> Selector:
+        """The pot's own tag placed the pot (or it has none to look for, or another tag is
+        there: a tag_mismatch); else search the pots the map shows nearby, noting a miss."""
+        c, finder = self.config, self.finder
+
+        def placed() -> bool:
+            if finder.needs_search(pot, visit):
+                return False
+            if visit.arrived is not None:
+                finder.place(pot, visit, visit.tags, visit.arrived, c.tag_max_distance)
+            return True
+
+        def found(reads, robot: Pose2D) -> bool:
+            return finder.place(pot, visit, reads, robot, self.robot.config.survey.found_read)
+
+        search = SearchTag(f"search {pot.id}", self.nav, lambda: finder.search_looks(pot), self.cameras["front"],
+                           self.tag_reader, found, self.clock, c.settle, c.search_look_timeout)
+
+        def not_found() -> bool:
+            visit.failures["search"] = (f"tag {pot.tag} not found within {c.search_radius:g} m of the mission's "
+                                        f"position ({why(search)})")
+            return False
+
+        return Selector(f"find {pot.id}", memory=True, children=[
+            Check(f"tag at {pot.id}", placed), self._timed(search, c.search_time), Do(f"not found {pot.id}", not_found)])
 
     # --- reading it ----------------------------------------------------------------------
     def current_step(self) -> str:

@@ -74,7 +74,8 @@ def test_the_default_patrol_inspects_every_pot_right(default_patrol):
     world, p = default_patrol
     doc = p.doc
     assert doc["outcome"] == "completed"
-    assert [x["id"] for x in doc["pots"]] == [pot.id for pot in world.pots]
+    assert sorted(x["id"] for x in doc["pots"]) == sorted(pot.id for pot in world.pots)  # in the shortest order
+    assert [x["id"] for x in doc["pots"]] == [pot.id for pot in p.run.tree.order]
     assert all(correct(world, doc).values()), correct(world, doc)
     blooms = {pot.id: pot.blooms for pot in world.pots if pot.flower != "none"}
     assert {x["id"]: x["flower"]["blooms"] for x in doc["pots"] if x["id"] in blooms} == blooms
@@ -103,7 +104,7 @@ def test_each_pot_records_its_errors_climate_and_images(default_patrol):
         assert entry["images"] == [f"{entry['id']}_front.jpg", f"{entry['id']}_wrist.jpg"]
         for name in entry["images"]:
             assert cv2.imread(str(p.directory / name)).shape == (480, 640, 3)
-    assert p.doc["sim_time_s"] > 60 and p.doc["distance_m"] > 15
+    assert p.doc["sim_time_s"] > 60 and p.doc["distance_m"] > 10  # 12 pots in the shortest order: ~12 m
 
 
 @pytest.mark.slow

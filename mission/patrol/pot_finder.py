@@ -1,0 +1,91 @@
+"""Pots found where they are, not where the mission says: their tags place them.
+
+At each pot the tag read at arrival gives the pot's pose (``mission.patrol.tag_sightings``).
+Off the mission's pose by more than ``moved_xy`` / ``moved_yaw``, the pot has moved: the robot
+approaches it again from where it is (the approach pose and the wrist's aim follow the tag), and
+the report says ``moved`` with the measured pose. With no tag at all where the pot should be, the
+pots the SLAM map shows within ``search_radius`` of the mission's position are looked at from
+each side the robot fits, nearest first, until the pot's tag turns up; only then is the pot
+``not_found``. A different tag at the pot is a swapped or re-labelled pot: a ``tag_mismatch``
+for the operator, not something to search past.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from behaviours.visit import PotVisit
+from hw.odometry import Pose2D
+from mission.approach import approach_pose
+from mission.patrol.config import PatrolConfig
+from mission.patrol.mission_file import Mission, MissionPot
+from mission.patrol.tag_sightings import pot_from_tag
+from nav.costmap.grid import INSCRIBED
+from nav.frames import compose
+from nav.navigator import Navigator
+from nav.viewpoints import looks, pot_blobs
+from perception.detections import TagRead
+
+
+SEARCH_BACK = 0.2
+"""Metres the search first steps back along the robot's heading, and farther the second ring of
+looks stands."""
+
+
+@dataclass
+class PotFinder:
+    mission: Mission
+    nav: Navigator
+    config: PatrolConfig
+
+    def own_tag(self, pot: MissionPot, reads: tuple[TagRead, ...], reach: float) -> TagRead | None:
+        """The pot's own tag among ``reads``, read no farther than ``reach``."""
+        return next((r for r in reads if r.id == pot.tag and r.distance <= reach), None)
+
+    def needs_search(self, pot: MissionPot, visit: PotVisit) -> bool:
+        """No tag at all read where the pot should be (and the mission says which to look for)."""
+        near = self.config.tag_max_distance
+        return pot.tag is not None and not any(r.distance <= near for r in visit.tags)
+
+    def place(self, pot: MissionPot, visit: PotVisit, reads: tuple[TagRead, ...], robot: Pose2D, reach: float) -> bool:
+        """Put the pot where its tag in ``reads`` says (robot: the map pose of the frame); True when
+        it was there. Marks the visit moved when that is far enough from the mission's pose."""
+        read = self.own_tag(pot, reads, reach)
+        if read is None:
+            return False
+        s = pot_from_tag(read, robot, self.config.front_camera_mount, self.config.plate_offset)
+        visit.located = (s.x, s.y, s.facing)
+        off, turn = self.offset(pot, visit)
+        visit.moved = off > self.config.moved_xy or turn > self.config.moved_yaw
+        return True
+
+    def offset(self, pot: MissionPot, visit: PotVisit) -> tuple[float, float]:
+        """How far (m) and how much turned (rad) the located pot is from the mission's."""
+        x, y, facing = visit.located
+        return math.hypot(x - pot.x, y - pot.y), abs(math.remainder(facing - pot.facing, 2 * math.pi))
+
+    def approach(self, pot: MissionPot, visit: PotVisit) -> Pose2D:
+        """The approach pose: from where the tag put a moved pot, else the mission's."""
+        if visit.moved:
+            x, y, facing = visit.located
+            return approach_pose(x, y, facing, self.mission.standoff)
+        return Pose2D(*self.mission.approach(pot))
+
+    def search_looks(self, pot: MissionPot) -> list[Pose2D]:
+        """Where to look for a pot whose tag was not at its approach pose: first a step back
+        (a pot moved towards the robot puts its plate too close to frame, ``SEARCH_BACK``), then
+        every pot of the map within ``search_radius`` of the mission's position from each side
+        the robot fits, at the approach distance and a little farther, the nearest first."""
+        here, grid = self.nav.map_pose(), self.nav.global_costmap.grid
+        back = compose(here, Pose2D(-SEARCH_BACK, 0.0, 0.0))
+        first = [back] if int(grid.cost_at(back.x, back.y)) < INSCRIBED else []
+        occupancy = getattr(self.nav.localisation, "occupancy", None)
+        if occupancy is None:
+            return first
+        blobs = pot_blobs(occupancy)
+        near = blobs[np.hypot(blobs[:, 0] - pot.x, blobs[:, 1] - pot.y) <= self.config.search_radius] if len(blobs) else blobs
+        out = [Pose2D(v.x, v.y, v.yaw) for standoff in (self.mission.standoff, self.mission.standoff + SEARCH_BACK)
+               for v in looks(near, grid, standoff)]
+        return first + sorted(out, key=lambda p: math.hypot(p.x - here.x, p.y - here.y))
