@@ -27,25 +27,42 @@ MARGIN = 1.0
 def path_lengths(grid: CostGrid, points: np.ndarray) -> np.ndarray:
     """(N, N) path lengths in metres between world points (N, 2); ``inf`` where the planner
     finds no way (a point walled in)."""
-    pts = np.asarray(points, dtype=float).reshape(-1, 2)
-    geo = grid.geometry
-    lo, hi = pts.min(axis=0) - MARGIN, pts.max(axis=0) + MARGIN
-    big = geo.grown_to_cover(lo[0], lo[1], hi[0], hi[1], COARSEN)
-    cross = crossing_costs(paste(grid.data, geo, big, UNKNOWN), allow_unknown=True)
-    cross[paste(grid.data, geo, big, UNKNOWN) == UNKNOWN] = NEUTRAL
-    h, w = big.height // COARSEN + 1, big.width // COARSEN + 1
-    padded = np.full((h * COARSEN, w * COARSEN), OBSTACLE, np.uint8)
-    padded[:big.height, :big.width] = cross
-    coarse = padded.reshape(h, COARSEN, w, COARSEN).min(axis=(1, 3))  # the cheapest way through each
-    framed = np.full((h + 2, w + 2), OBSTACLE, np.uint8)
-    framed[1:-1, 1:-1] = coarse
-    cells = GridGeometry(big.resolution * COARSEN, big.origin_x, big.origin_y, w, h)
-    ix, iy = cells.cell_of(pts[:, 0], pts[:, 1])
-    flat = (iy + 1) * (w + 2) + ix + 1
-    framed.ravel()[flat] = np.minimum(framed.ravel()[flat], NEUTRAL)  # a point's own cell is where it stands
-    out = np.empty((len(pts), len(pts)))
-    for k, start in enumerate(flat):
-        pot = propagate(framed.ravel(), w + 2, int(start), -1)[flat]
-        out[k] = np.where(pot < POT_HIGH, pot / NEUTRAL * cells.resolution, np.inf)
+    field = _Field(grid, points)
+    out = np.stack([field.from_point(k) for k in range(len(field.flat))])
     np.fill_diagonal(out, 0.0)
     return np.minimum(out, out.T)  # the wavefront is nearly, not exactly, symmetric
+
+
+def lengths_from(grid: CostGrid, origin, points: np.ndarray) -> np.ndarray:
+    """(N,) path lengths in metres from ``origin`` (x, y) to each of ``points``: one wavefront."""
+    field = _Field(grid, np.vstack([np.asarray(origin, dtype=float).reshape(1, 2), np.asarray(points).reshape(-1, 2)]))
+    return field.from_point(0)[1:]
+
+
+class _Field:
+    """The coarse crossing costs round a set of points, and their cells."""
+
+    def __init__(self, grid: CostGrid, points: np.ndarray):
+        pts = np.asarray(points, dtype=float).reshape(-1, 2)
+        geo = grid.geometry
+        lo, hi = pts.min(axis=0) - MARGIN, pts.max(axis=0) + MARGIN
+        big = geo.grown_to_cover(lo[0], lo[1], hi[0], hi[1], COARSEN)
+        data = paste(grid.data, geo, big, UNKNOWN)
+        cross = crossing_costs(data, allow_unknown=True)
+        cross[data == UNKNOWN] = NEUTRAL
+        h, w = big.height // COARSEN + 1, big.width // COARSEN + 1
+        padded = np.full((h * COARSEN, w * COARSEN), OBSTACLE, np.uint8)
+        padded[:big.height, :big.width] = cross
+        coarse = padded.reshape(h, COARSEN, w, COARSEN).min(axis=(1, 3))  # the cheapest way through each
+        self.framed = np.full((h + 2, w + 2), OBSTACLE, np.uint8)
+        self.framed[1:-1, 1:-1] = coarse
+        self.cells = GridGeometry(big.resolution * COARSEN, big.origin_x, big.origin_y, w, h)
+        ix, iy = self.cells.cell_of(pts[:, 0], pts[:, 1])
+        self.flat = (iy + 1) * (w + 2) + ix + 1
+        flat_view = self.framed.ravel()
+        flat_view[self.flat] = np.minimum(flat_view[self.flat], NEUTRAL)  # a point's own cell is where it stands
+
+    def from_point(self, k: int) -> np.ndarray:
+        """Path lengths from point ``k`` to every point, m."""
+        pot = propagate(self.framed.ravel(), self.cells.width + 2, int(self.flat[k]), -1)[self.flat]
+        return np.where(pot < POT_HIGH, pot / NEUTRAL * self.cells.resolution, np.inf)

@@ -76,3 +76,45 @@ def looks(pots: np.ndarray, costmap: CostGrid, standoff: float) -> list[Look]:
             if cost < INSCRIBED and cost != UNKNOWN:
                 out.append(Look(float(x), float(y), math.atan2(math.sin(a + math.pi), math.cos(a + math.pi)), i))
     return out
+
+
+@dataclass(frozen=True)
+class Lane:
+    start: Look
+    end: Look
+    """The first and last look of the sweep (the same heading)."""
+    looks: tuple[Look, ...]
+    """Every look on it, in order from ``start``."""
+
+    @property
+    def length(self) -> float:
+        return math.hypot(self.end.x - self.start.x, self.end.y - self.start.y)
+
+    def reversed(self) -> "Lane":
+        return Lane(self.end, self.start, self.looks[::-1])
+
+
+def lanes(views: list[Look], angle: float, offset_bin: float = 0.2, max_gap: float = 1.6) -> list[Lane]:
+    """The looks strung into sweeps: looks the same way (one of the lattice's four headings) on
+    one line across it (within ``offset_bin``), in order along it, cut where two neighbours are
+    more than ``max_gap`` apart (a missing pot is fine, a cross aisle or a wall between is not).
+    A robot strafing from a lane's start to its end with that heading passes every pot on it
+    with its camera square to the plates."""
+    groups: dict[tuple[int, int], list[tuple[float, Look]]] = {}
+    for v in views:
+        k = int(round((v.yaw - angle) / (math.pi / 2))) % 4
+        along = angle + (math.pi / 2 if k % 2 == 0 else 0.0)  # the sweep runs square to the heading
+        a, n = math.cos(along), math.sin(along)
+        s, t = v.x * a + v.y * n, -v.x * n + v.y * a  # along the lane, across it
+        groups.setdefault((k, int(round(t / offset_bin))), []).append((s, v))
+    out = []
+    for members in groups.values():
+        members.sort(key=lambda m: m[0])
+        run = [members[0]]
+        for m in members[1:]:
+            if m[0] - run[-1][0] > max_gap:
+                out.append(Lane(run[0][1], run[-1][1], tuple(v for _, v in run)))
+                run = []
+            run.append(m)
+        out.append(Lane(run[0][1], run[-1][1], tuple(v for _, v in run)))
+    return out

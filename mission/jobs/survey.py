@@ -7,11 +7,14 @@ the readiness cascade active, the arm in its travel pose, out of the front camer
 1. **Explore** (``nav.frontiers``): drive to the nearest frontier of the SLAM map, by path,
    until none is left; one the navigator cannot reach within ``goal_timeout`` is left out. A
    frontier seen into on the way is dropped for the next.
-2. **Look** (``nav.viewpoints``): the map's pots, each looked at from every side the robot fits,
-   the looks in a short tour (``nav.tour`` over ``nav.path_lengths``, a quarter turn costing
-   ``turn_cost``), so the looks one way along an aisle follow each other and the mecanum base
-   strafes down the aisle with its camera on the plants, reading plates as it goes. A look at a
-   pot a tag has already put in place is skipped, the drive to it dropped on the way.
+2. **Look** (``nav.viewpoints``): the map's pots, each looked at from every side the robot fits;
+   the looks one way along a line of pots make a lane, and the robot takes a lane's looks in
+   order, strafing from one to the next with its heading held, so the mecanum base moves down the
+   aisle with its camera square to the plates and reads them as it goes; at each look a frame is
+   taken standing. A look at a pot a tag has already placed is skipped (the drive to it dropped
+   on the way). The next lane is the one that finds the most pots not yet found per metre of
+   driving (to it, by path, and along it). The lanes down the aisles find the pots, so the lanes
+   across the rows (the gaps between pots, where no plate faces) end up skipped.
 3. **Home**: back to the dock.
 
 All the while, every front frame's tag reads place pots (``mission.patrol.tag_sightings``);
@@ -39,9 +42,8 @@ from mission.runtime.robot import Robot
 from nav.frontiers import nearest_frontier
 from nav.navigator import Navigator, State
 from nav.occupancy import OccupancyMap
-from nav.path_lengths import path_lengths
-from nav.tour import shortest_tour
-from nav.viewpoints import Look, looks, pot_blobs
+from nav.path_lengths import lengths_from
+from nav.viewpoints import Lane, Look, lanes, lattice_angle, looks, pot_blobs
 from perception.camera_pipeline import camera_pipelines
 from perception.config import PerceptionConfig
 from perception.tag_reader import TagReader
@@ -50,6 +52,9 @@ TICK_RATE = 10.0
 TRACE_RATE = 10.0
 FRONTIER_CHECK = 1.0
 """Seconds between checks that the frontier being driven to is still one."""
+LOOK_TOLERANCE = 0.1
+"""Metres a lane's end (or a single look) must be reached to: a plate framed from farther off
+its look can leave the frame."""
 
 
 class Phase(str, Enum):
@@ -83,6 +88,7 @@ class SurveyRun:
     pots: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
     """The map's pots (``nav.viewpoints.pot_blobs``) when the looking began."""
     looks: list[Look] = field(default_factory=list)
+    lanes: list[Lane] = field(default_factory=list)
     found: set[int] = field(default_factory=set)
     """Indices of the map's pots a tag has put in place."""
     looked: int = 0
@@ -99,7 +105,9 @@ class SurveyRun:
         self._arrived_at: float | None = None
         self._checked = self.t0
         self._last_frame: float | None = None
-        self._queue: list[int] = []
+        self._sweep: list[Look] | None = None
+        """What is left of the lane being swept: the goals still to drive to (None: dropped)."""
+        self._lane: Lane | None = None
 
     # --- the run -----------------------------------------------------------------------------
     @property
@@ -164,36 +172,66 @@ class SurveyRun:
             return
         self.pots = pot_blobs(occupancy, cfg.pot_max_size)
         self.looks = looks(self.pots, self.nav.global_costmap.grid, cfg.standoff)
-        if not self.looks:
-            return
-        here = self.nav.map_pose()
-        points = np.array([[here.x, here.y]] + [[v.x, v.y] for v in self.looks])
-        yaw = np.array([here.yaw] + [v.yaw for v in self.looks])
-        turn = np.abs(np.angle(np.exp(1j * (yaw[:, None] - yaw[None, :]))))
-        dist = path_lengths(self.nav.global_costmap.grid, points) + cfg.turn_cost * turn / (math.pi / 2)
-        dist = np.where(np.isfinite(dist), dist, 1e6)
-        self._queue = [k - 1 for k in shortest_tour(np.minimum(dist, dist.T), 0)]
+        self.lanes = lanes(self.looks, lattice_angle(self.pots))
 
     def _look(self) -> None:
+        if self._lane is not None and self._sweep is not None and all(v.pot in self.found for v in self._lane.looks):
+            self.nav.cancel(self.now, "every pot of the lane found")
+            self._sweep = None
         if self.nav.active:
-            if self._goal is not None and self._goal[0] in self._found_labels():
-                self.nav.cancel(self.now, "pot found on the way")
             return
-        if self._goal is not None and self.nav.state is State.SUCCEEDED:
-            if self._arrived_at is None:
-                self._arrived_at = self.now
-            if self.cameras["front"].fresh(self._arrived_at + self.config.patrol.settle) is None:
-                return  # wait for a frame taken standing at the look
-            self._watch()  # read it, if this tick's look at the camera did not already
-            self._arrived_at = None
-            self.looked += 1
-        while self._queue and self.looks[self._queue[0]].pot in self.found:
-            self._queue.pop(0)
-        if not self._queue:
+        if self._sweep is not None and self.nav.state is State.SUCCEEDED and self._goal is not None \
+                and self._goal[0] == "look" and not self._framed():
+            return  # at a look: a frame taken standing there, read first
+        if self._sweep:
+            self._sweep_on()
+            if self._sweep is not None:
+                return
+        if self._lane is not None:
+            self.looked += len(self._lane.looks)
+            self.lanes = [lane for lane in self.lanes if lane.looks not in (self._lane.looks, self._lane.looks[::-1])]
+        self._lane = self._next_lane()
+        if self._lane is None:
             self._end_search("")
             return
-        v = self.looks[self._queue.pop(0)]
-        self._drive(f"pot {v.pot}", Pose2D(v.x, v.y, v.yaw))
+        self._sweep = list(self._lane.looks)
+        self._sweep_on()
+
+    def _sweep_on(self) -> None:
+        """On to the lane's next look at a pot not yet found (a short strafe along the aisle,
+        the heading held); at the end of the lane, on to the next lane."""
+        while self._sweep and self._sweep[0].pot in self.found:
+            self._sweep.pop(0)
+        if not self._sweep:
+            self._sweep = None
+            return
+        v = self._sweep.pop(0)
+        self._drive("look", Pose2D(v.x, v.y, v.yaw), LOOK_TOLERANCE)
+
+    def _framed(self) -> bool:
+        """A front frame taken ``settle`` after arriving has been read."""
+        if self._arrived_at is None:
+            self._arrived_at = self.now
+        if self.cameras["front"].fresh(self._arrived_at + self.config.patrol.settle) is None:
+            return False
+        self._watch()
+        self._arrived_at = None
+        return True
+
+    def _next_lane(self) -> Lane | None:
+        """The lane that finds the most pots not yet found per metre: to its nearer end by path,
+        then along it (it is swept from that end)."""
+        todo = [lane for lane in self.lanes if any(v.pot not in self.found for v in lane.looks)]
+        if not todo:
+            return None
+        here = self.nav.map_pose()
+        ends = np.array([[e.x, e.y] for lane in todo for e in (lane.start, lane.end)])
+        reach = lengths_from(self.nav.global_costmap.grid, (here.x, here.y), ends).reshape(-1, 2)
+        gain = np.array([len({v.pot for v in lane.looks} - self.found) for lane in todo], float)
+        cost = reach.min(axis=1) + np.array([lane.length for lane in todo]) + 1.0
+        k = int(np.argmax(np.where(np.isfinite(cost), gain / cost, -1.0)))
+        lane = todo[k]
+        return lane.reversed() if reach[k, 1] < reach[k, 0] else lane
 
     def _home(self) -> None:
         if not self.nav.active:
@@ -210,16 +248,13 @@ class SurveyRun:
         self._drive("home", Pose2D())
 
     # --- pieces ------------------------------------------------------------------------------
-    def _drive(self, label: str, goal: Pose2D) -> None:
+    def _drive(self, label: str, goal: Pose2D, xy_tolerance: float | None = None) -> None:
         self._goal = (label, goal)
         self._checked = self.now
-        self.nav.navigate_to(goal, self.now, self.config.survey.goal_timeout)
+        self.nav.navigate_to(goal, self.now, self.config.survey.goal_timeout, xy_tolerance)
 
     def _map(self) -> OccupancyMap | None:
         return self.nav.localisation.occupancy  # a survey maps as it goes (``survey_config``)
-
-    def _found_labels(self) -> set[str]:
-        return {f"pot {i}" for i in self.found}
 
     def _watch(self) -> None:
         """Every new front frame's tag reads place pots; pots of the map they land near are found."""
@@ -245,6 +280,7 @@ class SurveyRun:
         explored = 0.0 if occupancy is None else float((occupancy.occupancy >= 0).sum()) * occupancy.resolution ** 2
         return {"pots_found": len(self.sightings.by_tag), "map_pots": int(len(self.pots)),
                 "map_pots_found": len(self.found), "looks": len(self.looks), "looked": self.looked,
+                "lanes_left": len(self.lanes),
                 "frontiers": self.frontiers_driven, "explored_m2": round(explored, 1),
                 "robot_time_s": round(self.now - self.t0, 1), "distance_m": round(distance, 2),
                 "wall_time_s": round(wall_s, 1), "ended": self.reason or "complete"}

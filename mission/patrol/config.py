@@ -92,6 +92,3 @@ class SurveyConfig(BaseModel):
     front_rate: float = Field(5.0, gt=0, le=30)
     """Front frames per second while surveying, Hz: the tags are read on the move, strafing down
     the aisles, so more frames than a patrol's 2 Hz."""
-    turn_cost: float = Field(0.3, ge=0)
-    """Metres a quarter turn is worth when ordering the looks: looks the same way along an aisle
-    follow each other, so the base strafes down it with its camera on the plants."""

@@ -10,7 +10,7 @@ import pytest
 from nav.costmap.grid import CostGrid, FREE, INSCRIBED, LETHAL
 from nav.costmap.inflation import InflationLayer
 from nav.occupancy import OccupancyMap
-from nav.viewpoints import lattice_angle, looks, pot_blobs
+from nav.viewpoints import Look, lanes, lattice_angle, looks, pot_blobs
 
 
 def greenhouse(angle: float = 0.0) -> tuple[OccupancyMap, list[tuple[float, float]]]:
@@ -57,3 +57,15 @@ def test_looks_face_their_pot_from_each_side_the_robot_fits():
         assert math.atan2(py - v.y, px - v.x) == pytest.approx(v.yaw, abs=1e-6)
     per_pot = np.bincount([v.pot for v in views], minlength=len(blobs))
     assert per_pot.min() >= 3 and per_pot.max() == 4  # the side by a wall is too tight for some
+
+
+def test_looks_string_into_lanes_along_the_rows_cut_at_gaps():
+    """Looks facing north at three pots a metre apart along y = 0.5, and two more past a 3 m
+    gap: two lanes, each in order, each of one heading; a look the other way is its own lane."""
+    north = [Look(x, 0.5, math.pi / 2, i) for i, x in enumerate((1.0, 2.0, 3.0, 6.0, 7.0))]
+    south = [Look(2.0, 1.5, -math.pi / 2, 9)]
+    out = lanes(north + south, 0.0)
+    got = sorted((tuple(v.pot for v in lane.looks), round(lane.length, 3)) for lane in out)
+    assert got == [((0, 1, 2), 2.0), ((3, 4), 1.0), ((9,), 0.0)]
+    lane = next(lane for lane in out if len(lane.looks) == 3)
+    assert lane.reversed().start == lane.end and lane.reversed().looks[0].pot == 2
