@@ -49,7 +49,8 @@ class SimRobot:
         self.renderers = RendererPool(engine)
         cams = {k: SimCamera(self.renderers, v, sc.camera.width, sc.camera.height, sc.camera.draw_distance)
                 for k, v in CAMERAS.items()}
-        self.faults = SimFaults(engine, self.lidar, self.servos, self.battery, self.button, cams, controllers)
+        self.faults = SimFaults(engine, self.lidar, self.servos, self.battery, self.button, cams, controllers,
+                                {p.id: (p.x, p.y) for p in world.pots})
         self.clock = SimClock(self._paced(engine) if sc.realtime else engine.advance_to, start=engine.time)
         self.hal = Hal(
             clock=self.clock,

@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 
 import mujoco
+import numpy as np
 
 from sim.cameras import SimCamera
 from sim.engine import Engine
@@ -19,8 +20,11 @@ from sim.servos import SimServoBus
 
 class SimFaults:
     def __init__(self, engine: Engine, lidar: SimLidar, servos: SimServoBus, battery: SimBattery,
-                 button: SimEStopButton, cameras: dict[str, SimCamera], controllers=None):
+                 button: SimEStopButton, cameras: dict[str, SimCamera], controllers=None,
+                 pots: dict[str, tuple[float, float]] | None = None):
         self.engine = engine
+        self.pots = dict(pots or {})
+        """Each pot's centre (world frame), where it stands now."""
         self._lidar = lidar
         self._servos = servos
         self._battery = battery
@@ -68,6 +72,27 @@ class SimFaults:
         mocap = m.body_mocapid[body]
         d.mocap_pos[mocap] = (x, y, h / 2)
         d.mocap_quat[mocap] = (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
+
+    def move_pot(self, pot: str, dx: float, dy: float, dyaw: float) -> None:
+        """Someone moves a pot: its centre shifted by (dx, dy) and the whole pot (its plate too)
+        turned by ``dyaw`` about it, world frame. Its geoms are the world body's (static), whose
+        poses MuJoCo takes from the model on every step."""
+        if pot not in self.pots:
+            raise ValueError(f"the world has no pot {pot!r}")
+        m = self.engine.model
+        names = [mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, i) or "" for i in range(m.ngeom)]
+        ids = [i for i, n in enumerate(names) if n.startswith((f"pot_{pot}_", f"tag_{pot}_")) or n == f"tag_{pot}"]
+        cx, cy = self.pots[pot]
+        c, s = math.cos(dyaw), math.sin(dyaw)
+        turn = np.array([math.cos(dyaw / 2), 0.0, 0.0, math.sin(dyaw / 2)])
+        for i in ids:
+            x, y = m.geom_pos[i, 0] - cx, m.geom_pos[i, 1] - cy
+            m.geom_pos[i, :2] = (cx + dx + c * x - s * y, cy + dy + s * x + c * y)
+            quat = np.empty(4)
+            mujoco.mju_mulQuat(quat, turn, m.geom_quat[i])
+            m.geom_quat[i] = quat
+        self.pots[pot] = (cx + dx, cy + dy)
+        mujoco.mj_kinematics(m, self.engine.data)  # in place now, for the next render or ray
 
     def controller_race(self, controllers: list[str], state: str) -> None:
         """Bring controllers up broken (the seed's boot race): missing, unconfigured or inactive."""

@@ -106,6 +106,8 @@ class EventPlayer:
                 f.controller_race(e.controllers, e.state)
             case ev.CameraDropout():
                 f.camera_dropout(e.camera, e.duration)
+            case ev.MovePot():
+                f.move_pot(e.pot, e.dx, e.dy, e.dyaw)
 
     def _teleop(self, i: int, e: ev.Teleop, now: float) -> None:
         name, twist, mux = f"event.{i}.teleop.publish", Twist(e.vx, e.vy, e.wz), self.robot.mux

@@ -112,8 +112,19 @@ class CameraDropout(_Event):
     duration: float = Field(gt=0)
 
 
+class MovePot(_Event):
+    do: Literal["move_pot"]
+    pot: str = Field(min_length=1)
+    """The world's pot id."""
+    dx: float = 0.0
+    dy: float = 0.0
+    """Shift of its centre, world frame, m."""
+    dyaw: float = 0.0
+    """Turn about its centre, rad (its plate turns with it)."""
+
+
 EVENT_TYPES = (EStop, SoftEStop, Resume, Pause, LidarDropout, ServoStall, Battery, ClearMap, Teleop, PlaceBox,
-               ControllerRace, CameraDropout)
+               ControllerRace, CameraDropout, MovePot)
 ACTIONS = {t.model_fields["do"].annotation.__args__[0]: t for t in EVENT_TYPES}
 Event = Annotated[Union[EVENT_TYPES], Field(discriminator="do")]
 _EVENTS = TypeAdapter(list[Event])
@@ -135,9 +146,9 @@ def _error_line(err: dict[str, Any], data: list) -> str:
     return f"{entry} (do {action}): field '{'.'.join(str(p) for p in rest)}': {what}" if rest else f"{entry} (do {action}): {what}"
 
 
-def _problems(events: list, config: LupinConfig) -> list[str]:
+def _problems(events: list, config: LupinConfig, pots: frozenset[str] | None) -> list[str]:
     """What the schema cannot know: the robot's joints and controllers, the sim's spare boxes,
-    whether there is a live map."""
+    whether there is a live map, the world's pots (when the world is known)."""
     joints, controllers = tuple(config.hw.servos.joints), tuple(config.hw.controllers)
     out, boxes = [], 0
     for i, e in enumerate(events):
@@ -151,6 +162,8 @@ def _problems(events: list, config: LupinConfig) -> list[str]:
                            f"(known: {', '.join(controllers)})")
         if isinstance(e, ClearMap) and not config.nav.slam:
             out.append(f"{here}: the config localises on a saved map (nav.slam false): there is no live map to clear")
+        if isinstance(e, MovePot) and pots is not None and e.pot not in pots:
+            out.append(f"{here}: field 'pot': the world has no pot {e.pot!r}")
         if isinstance(e, PlaceBox):
             boxes += 1
             if boxes > SPARE_BOXES:
@@ -158,8 +171,9 @@ def _problems(events: list, config: LupinConfig) -> list[str]:
     return out
 
 
-def parse_events(data: Any, source: str, config: LupinConfig) -> list:
-    """Checked events from parsed YAML, sorted by ``at`` (file order at the same instant)."""
+def parse_events(data: Any, source: str, config: LupinConfig, pots: frozenset[str] | None = None) -> list:
+    """Checked events from parsed YAML, sorted by ``at`` (file order at the same instant);
+    ``pots``: the world's pot ids, which ``move_pot`` must name."""
     if not isinstance(data, list):
         raise InputError(f"{source}: top level: must be a list of events such as - {{at: 10.0, do: pause}} "
                          f"(got {kind_of(data)})")
@@ -167,13 +181,13 @@ def parse_events(data: Any, source: str, config: LupinConfig) -> list:
         events = _EVENTS.validate_python(data)
     except ValidationError as exc:
         raise InputError("\n".join(f"{source}: {_error_line(err, data)}" for err in exc.errors())) from None
-    problems = _problems(events, config)
+    problems = _problems(events, config, pots)
     if problems:
         raise InputError("\n".join(f"{source}: {p}" for p in problems))
     return sorted(events, key=lambda e: e.at)
 
 
-def load_events(path: str | Path, config: LupinConfig) -> list:
+def load_events(path: str | Path, config: LupinConfig, pots: frozenset[str] | None = None) -> list:
     """Read and check an events file; ``InputError`` (only) for anything wrong with it."""
     data = read_yaml(path, "events file")
-    return parse_events(data, str(path), config)
+    return parse_events(data, str(path), config, pots)

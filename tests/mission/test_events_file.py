@@ -21,6 +21,7 @@ SPEC_EXAMPLE = """
 - {at: 95.0, do: place_box, x: 3.0, y: 1.0, sx: 0.3, sy: 0.3}
 - {at: 0.0, do: controller_race, controllers: [mirte_base_controller], state: unconfigured}
 - {at: 5.0, do: pause}
+- {at: 40.0, do: move_pot, pot: P03, dx: 0.15, dy: 0.0, dyaw: 0.2}
 """
 
 
@@ -72,6 +73,16 @@ def test_mistakes_are_named(data, message):
     with pytest.raises(InputError) as exc:
         parse_events(data, "e.yaml", LupinConfig())
     assert message in str(exc.value)
+
+
+def test_a_pot_moved_must_be_one_of_the_worlds():
+    pots = frozenset({"P01", "P02"})
+    moved = parse_events([{"at": 3.0, "do": "move_pot", "pot": "P02", "dx": 0.1}], "e.yaml", LupinConfig(), pots)
+    assert (moved[0].pot, moved[0].dx, moved[0].dy, moved[0].dyaw) == ("P02", 0.1, 0.0, 0.0)
+    with pytest.raises(InputError, match=r"e.yaml: events\[0\] \(do move_pot\): field 'pot': the world has no pot 'P09'"):
+        parse_events([{"at": 3.0, "do": "move_pot", "pot": "P09"}], "e.yaml", LupinConfig(), pots)
+    with pytest.raises(InputError, match="field 'pot': missing required key"):
+        parse_events([{"at": 3.0, "do": "move_pot", "dx": 0.1}], "e.yaml", LupinConfig(), pots)
 
 
 def test_every_problem_is_reported_at_once():
