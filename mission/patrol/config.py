@@ -62,11 +62,6 @@ class PatrolConfig(BaseModel):
     discovered_max_distance: float = Field(1.5, gt=0)
     """Tags seen en route are placed on the map only when read nearer than this, m: further
     away the pose from a 10 cm tag is too coarse to say which pot it is on."""
-    discovered_merge: float = Field(0.3, gt=0)
-    """Two sightings of the same tag id within this distance, m, are one discovered tag
-    (their positions are averaged)."""
-
-
 class SurveyConfig(BaseModel):
     """`lupin survey`: exploring a greenhouse and finding its pots by their tags."""
 

@@ -37,6 +37,7 @@ from hw.odometry import Pose2D
 from mission.patrol.climate import ClimateSource
 from mission.patrol.config import PatrolConfig
 from mission.patrol.mission_file import Mission, MissionPot
+from mission.patrol.tag_sightings import PotEstimate, TagSightings
 from nav.frames import compose, yaw_error
 from perception.camera_pipeline import Frame
 from perception.detections import TagRead
@@ -61,7 +62,8 @@ class PatrolReport:
         self.t0, self.wall0 = runtime_now(), wall_now()
         self.pots: dict[str, dict] = {}
         self.anomalies: list[dict] = []
-        self.discovered: list[dict] = []
+        self.discovered = TagSightings(config.front_camera_mount, config.plate_offset,
+                                       max_distance=config.discovered_max_distance)
         self.estop_events: list[dict] = []
         self.outcome: str | None = None
         self._listed_tags = {p.tag for p in mission.pots if p.tag is not None}
@@ -135,19 +137,8 @@ class PatrolReport:
     # --- tags seen en route ------------------------------------------------------------------
     def saw(self, reads: tuple[TagRead, ...], robot: Pose2D) -> None:
         """Tags read from the robot's map pose ``robot``: the unlisted ones near enough to place
-        become discovered tags (same id within ``discovered_merge``: one tag, averaged)."""
-        cfg = self.config
-        for read in reads:
-            if read.id in self._listed_tags or read.distance > cfg.discovered_max_distance:
-                continue
-            x, y = tag_in_map(read, robot, cfg.front_camera_mount)
-            for d in self.discovered:
-                if d["id"] == read.id and math.hypot(d["x"] - x, d["y"] - y) <= cfg.discovered_merge:
-                    n = d["sightings"]
-                    d["x"], d["y"], d["sightings"] = (d["x"] * n + x) / (n + 1), (d["y"] * n + y) / (n + 1), n + 1
-                    break
-            else:
-                self.discovered.append({"id": read.id, "x": x, "y": y, "sightings": 1})
+        become discovered tags, every read of one id fused (``mission.patrol.tag_sightings``)."""
+        self.discovered.add(tuple(r for r in reads if r.id not in self._listed_tags), robot)
 
     # --- the document --------------------------------------------------------------------
     def document(self) -> dict:
@@ -164,8 +155,7 @@ class PatrolReport:
             "distance_m": round(self.distance(), 3),
             "pots": pots,
             "anomalies": self.anomalies,
-            "discovered_tags": [{"id": d["id"], "x": round(d["x"], 3), "y": round(d["y"], 3),
-                                 "sightings": d["sightings"]} for d in self.discovered],
+            "discovered_tags": [_discovered(e, self.config.plate_offset) for e in self.discovered.estimates()],
             "estop_events": self.estop_events,
         }
 
@@ -182,6 +172,13 @@ class PatrolReport:
         self.anomalies.extend({"kind": "skipped", "pot": p.id, "detail": f"not visited: the patrol ended {outcome}"}
                               for p in self.mission.pots if p.id not in self.pots)
         return self.write(**extra)
+
+
+def _discovered(e: PotEstimate, plate_offset: float) -> dict:
+    """A discovered tag: where the tag is (spec/report.md), and the pot it puts there."""
+    x, y = e.x + plate_offset * math.cos(e.facing), e.y + plate_offset * math.sin(e.facing)
+    return {"id": e.tag, "x": round(x, 3), "y": round(y, 3), "sightings": e.sightings,
+            "pot": {"x": round(e.x, 3), "y": round(e.y, 3), "facing": round(e.facing, 3)}}
 
 
 def not_inspected(doc: dict) -> dict[str, int]:
@@ -201,12 +198,3 @@ def _entry(pot: MissionPot, status: str, attempts: int = 0) -> dict:
     """A pot's entry before anything was found (spec/report.md's required keys, plus where)."""
     return {"id": pot.id, "status": status, "attempts": attempts, "tag_expected": pot.tag, "tag_read": None,
             "flower": None, "x": pot.x, "y": pot.y, "images": []}
-
-
-def tag_in_map(read: TagRead, robot: Pose2D, mount: tuple[float, float, float]) -> tuple[float, float]:
-    """A tag's centre in the map frame from its pose in the front camera (OpenCV axes: x right,
-    y down, z forward; the camera looks along base_link +x)."""
-    right, _, forward = read.position
-    p = compose(robot, Pose2D(mount[0] + forward, mount[1] - right, 0.0))
-    return p.x, p.y
-

@@ -12,7 +12,7 @@ from hw.odometry import Pose2D
 from mission.patrol.climate import NoClimate, TableClimate
 from mission.patrol.config import PatrolConfig
 from mission.patrol.mission_file import parse_mission
-from mission.patrol.report import PatrolReport, not_inspected, tag_in_map
+from mission.patrol.report import PatrolReport, not_inspected
 from perception.camera_pipeline import Frame
 from perception.detections import Bloom, FlowerFrame, TagRead
 from sim.world import load_default_world
@@ -24,7 +24,8 @@ MISSION = {"name": "unit", "home": {"x": 0.0, "y": 0.0, "yaw": 0.0},
 
 
 def tag(id_, distance, right=0.0):
-    return TagRead(id_, (), (right, 0.0, distance), (0.0, 0.0, 0.0), 0.0, 0.1)
+    """A tag read ``distance`` ahead of the front camera, facing it head-on."""
+    return TagRead(id_, (), (right, 0.0, distance), (math.pi, 0.0, 0.0), 0.0, 0.1)
 
 
 def frame(value=100):
@@ -131,20 +132,15 @@ def test_the_report_on_disk_is_always_whole_and_the_end_marks_skipped_pots(repor
     assert not list(tmp_path.glob(".*.tmp"))
 
 
-def test_tag_in_map_places_a_tag_ahead_and_to_the_side():
-    # robot at (1, 2) facing +y; a tag 0.5 m in front of the camera and 0.1 m to its right
-    x, y = tag_in_map(tag(5, 0.5, right=0.1), Pose2D(1.0, 2.0, math.pi / 2), (0.1625, 0.0, 0.15))
-    assert (x, y) == pytest.approx((1.0 + 0.1, 2.0 + 0.6625))
-
-
-def test_discovered_tags_are_unlisted_near_enough_and_merged(report):
+def test_discovered_tags_are_unlisted_near_enough_and_fused_with_the_pot_they_place(report):
     r, _ = report
     robot = Pose2D(0.0, 0.0, 0.0)
     r.saw((tag(1, 0.5), tag(9, 0.5), tag(9, 2.0, right=0.3)), robot)  # 1 is listed; the far 9 is too far
     r.saw((tag(9, 0.6),), robot)
-    r.saw((tag(9, 0.5),), Pose2D(3.0, 0.0, 0.0))  # the same id elsewhere: another plate
-    assert [(d["id"], d["sightings"]) for d in r.discovered] == [(9, 2), (9, 1)]
-    assert r.discovered[0]["x"] == pytest.approx(0.1625 + 0.55)
+    (d,) = r.document()["discovered_tags"]
+    assert (d["id"], d["sightings"]) == (9, 2)
+    assert 0.1625 + 0.5 < d["x"] < 0.1625 + 0.55 and d["y"] == pytest.approx(0.0, abs=1e-9)  # the near read weighs most
+    assert d["pot"]["x"] == pytest.approx(d["x"] + 0.104, abs=1e-3) and abs(d["pot"]["facing"]) == pytest.approx(math.pi, abs=1e-3)
 
 
 def test_no_climate_source_means_no_climate_key(tmp_path):
