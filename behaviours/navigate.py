@@ -21,14 +21,16 @@ from nav.navigator import Navigator, State
 
 class NavigateTo(py_trees.behaviour.Behaviour):
     def __init__(self, name: str, nav: Navigator, goal: Callable[[], Pose2D], clock: Clock,
-                 on_start: Callable[[], None] = lambda: None):
+                 on_start: Callable[[], None] = lambda: None, xy_tolerance: float | None = None):
         super().__init__(name)
         self.nav, self.goal, self.clock, self.on_start = nav, goal, clock, on_start
+        self.xy_tolerance = xy_tolerance
+        """A tighter goal tolerance than the navigator's, when the goal asks for one."""
 
     def initialise(self) -> None:
         self.on_start()
         self.feedback_message = ""
-        self.nav.navigate_to(self.goal(), self.clock.now(), math.inf)
+        self.nav.navigate_to(self.goal(), self.clock.now(), math.inf, self.xy_tolerance)
 
     def update(self) -> Status:
         state = self.nav.state

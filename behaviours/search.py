@@ -4,8 +4,8 @@ until a read is the one sought.
 The looks come from a callable, read when the search starts (the tree computes them from the map
 as it is then); each is a goal for the navigator with a time limit of its own, and a look the
 robot cannot reach is passed over. After arriving, the frame must be taken ``settle`` seconds
-later (the base has stopped). ``found(reads, robot)`` decides (and keeps what it needs); the
-search then succeeds. Out of looks, it fails, saying how many it tried. Stopping it cancels the
+later (the base has stopped); every frame taken on the way is read too (a plate passed is a
+plate found). ``found(reads, robot)`` decides (and keeps what it needs); the search then succeeds. Out of looks, it fails, saying how many it tried. Stopping it cancels the
 goal it was driving to.
 """
 from __future__ import annotations
@@ -37,6 +37,7 @@ class SearchTag(py_trees.behaviour.Behaviour):
         self._left: list[Pose2D] = []
         self._tried = 0
         self._since: float | None = None
+        self._seen: float | None = None
 
     def initialise(self) -> None:
         self._left, self._tried, self._since = list(self.looks()), 0, None
@@ -44,14 +45,17 @@ class SearchTag(py_trees.behaviour.Behaviour):
         self._next()
 
     def update(self) -> Status:
+        if self._read(self.camera.request()):
+            self.nav.cancel(self.clock.now(), "found on the way")
+            return Status.SUCCESS
         state = self.nav.state
         if state is State.SUCCEEDED:
             if self._since is None:
                 self._since = self.clock.now() + self.settle
-            frame = self.camera.fresh(self._since)
-            if frame is None:
+            standing = self.camera.fresh(self._since)
+            if standing is None:
                 return Status.RUNNING
-            if self.found(self.reader.read(frame.image), self.nav.map_pose()):
+            if self._read(standing):
                 return Status.SUCCESS
         elif self.nav.active:
             return Status.RUNNING
@@ -63,6 +67,13 @@ class SearchTag(py_trees.behaviour.Behaviour):
     def terminate(self, new_status: Status) -> None:
         if new_status is Status.INVALID:
             self.nav.cancel(self.clock.now(), f"{self.name} stopped")
+
+    def _read(self, frame) -> bool:
+        """Read a frame not read yet; True when it holds what is sought."""
+        if frame is None or frame.stamp == self._seen:
+            return False
+        self._seen = frame.stamp
+        return self.found(self.reader.read(frame.image), self.nav.map_pose())
 
     def _next(self) -> bool:
         """Drive to the next look; False when none is left."""

@@ -32,6 +32,8 @@ class PotVisit:
     """Every whitelisted tag read in ``front``, nearest first."""
     located: tuple[float, float, float] | None = None
     """Where the pot's own tag put the pot (x, y, facing in the map), when it was read."""
+    own_tag: TagRead | None = None
+    """The read of the pot's own tag that placed it (kept when a later frame misses it)."""
     moved: bool = False
     """``located`` is far enough from the mission's pose to count as moved (and was driven to)."""
     failures: dict[str, str] = field(default_factory=dict)

@@ -51,6 +51,11 @@ class PatrolConfig(BaseModel):
     approach pose places its pot to about a centimetre, so an unmoved pot never trips it)."""
     moved_yaw: float = Field(0.15, gt=0)
     """... or turned by more than this, rad."""
+    moved_approach_xy: float = Field(0.08, gt=0)
+    """The approach again to a moved pot (or after a stop more than 1.5 times this off the
+    approach pose) must end this close to it, m, not within the goal checker's 0.25 m: a pot
+    pushed among its neighbours leaves MPPI room to stop short, and from 0.2 m off the wrist
+    camera can miss the bloom. Failing that, one approach within the usual tolerance."""
     search_radius: float = Field(1.0, gt=0)
     """No tag where the pot should be: the pots the map shows within this distance of the
     mission's position are looked at for it before the pot is declared ``not_found``, m."""

@@ -56,7 +56,7 @@ class PotFinder:
         if read is None:
             return False
         s = pot_from_tag(read, robot, self.config.front_camera_mount, self.config.plate_offset)
-        visit.located = (s.x, s.y, s.facing)
+        visit.located, visit.own_tag = (s.x, s.y, s.facing), read
         off, turn = self.offset(pot, visit)
         visit.moved = off > self.config.moved_xy or turn > self.config.moved_yaw
         return True
@@ -77,7 +77,9 @@ class PotFinder:
         """Where to look for a pot whose tag was not at its approach pose: first a step back
         (a pot moved towards the robot puts its plate too close to frame, ``SEARCH_BACK``), then
         every pot of the map within ``search_radius`` of the mission's position from each side
-        the robot fits, at the approach distance and a little farther, the nearest first."""
+        the robot fits, at the approach distance and a little farther: the looks the way the
+        mission's plate faced first (a pot pushed about mostly still faces its aisle), nearest
+        first within each."""
         here, grid = self.nav.map_pose(), self.nav.global_costmap.grid
         back = compose(here, Pose2D(-SEARCH_BACK, 0.0, 0.0))
         first = [back] if int(grid.cost_at(back.x, back.y)) < INSCRIBED else []
@@ -88,4 +90,9 @@ class PotFinder:
         near = blobs[np.hypot(blobs[:, 0] - pot.x, blobs[:, 1] - pot.y) <= self.config.search_radius] if len(blobs) else blobs
         out = [Pose2D(v.x, v.y, v.yaw) for standoff in (self.mission.standoff, self.mission.standoff + SEARCH_BACK)
                for v in looks(near, grid, standoff)]
-        return first + sorted(out, key=lambda p: math.hypot(p.x - here.x, p.y - here.y))
+
+        def order(p: Pose2D) -> tuple[bool, float]:
+            facing_it = abs(math.remainder(p.yaw - (pot.facing + math.pi), 2 * math.pi)) < math.pi / 4
+            return not facing_it, math.hypot(p.x - here.x, p.y - here.y)
+
+        return first + sorted(out, key=order)

@@ -70,8 +70,10 @@ class PatrolReport:
 
     # --- pots ----------------------------------------------------------------------------
     def pots_tag(self, visit: PotVisit) -> TagRead | None:
-        """The pot's own tag: the nearest read close enough to be on this pot's plate."""
-        return next((t for t in visit.tags if t.distance <= self.config.tag_max_distance), None)
+        """The pot's own tag: the nearest read close enough to be on this pot's plate, or the
+        read that placed the pot (a moved pot's plate may leave the last frame)."""
+        near = next((t for t in visit.tags if t.distance <= self.config.tag_max_distance), None)
+        return near or visit.own_tag
 
     def record(self, pot: MissionPot, visit: PotVisit, goal: Pose2D) -> None:
         """A pot's branch has ended: its entry, its anomalies and images, then the report."""

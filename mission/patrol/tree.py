@@ -21,8 +21,9 @@
                       approach P01                              Retry(retries) > Timeout > NavigateTo
                       front camera P01                          ReadTags, or note no frame
                       find P01                                  Selector: a tag there, or search for it
-                      moved P01                                 Selector: not moved, or approach again
-                                                                where its tag put it, and read it
+                      moved P01                                 Selector: in place, or approach again
+                                                                (closely: where its tag put a moved
+                                                                pot, or where a far stop missed it)
                       wrist P01                                 arm to inspect (or aim) > DetectFlower,
                                                                 or note what failed
                       record P01
@@ -84,7 +85,7 @@ from nav.path_lengths import path_lengths
 from mission.patrol.report import PatrolReport
 from mission.runtime.heal import heal_controllers
 from mission.runtime.robot import Robot
-from nav.frames import compose, inverse
+from nav.frames import compose, distance, inverse
 from nav.navigator import Navigator
 from perception.camera_pipeline import CameraPipeline
 from perception.flower_detector import FlowerDetector
@@ -164,8 +165,9 @@ class PatrolTree:
     def _timed(self, child: Behaviour, duration: float) -> Timeout:
         return Timeout(f"{child.name} (timeout)", child, self.clock, duration)
 
-    def _drive(self, name: str, goal: Callable[[], Pose2D], on_start: Callable[[], None] = lambda: None) -> Retry:
-        attempt = self._timed(NavigateTo(name, self.nav, goal, self.clock, on_start), self.mission.nav_timeout)
+    def _drive(self, name: str, goal: Callable[[], Pose2D], on_start: Callable[[], None] = lambda: None,
+               xy_tolerance: float | None = None) -> Retry:
+        attempt = self._timed(NavigateTo(name, self.nav, goal, self.clock, on_start, xy_tolerance), self.mission.nav_timeout)
         return Retry(f"{name} (x{self.mission.retries})", attempt, self.mission.retries)
 
     def _arm(self, name: str, goal: Callable[[], tuple[object, str]]) -> Timeout:
@@ -253,11 +255,19 @@ class PatrolTree:
 
         front = read_front("front camera")
         find = self._find(pot, visit)
+        def in_place() -> bool:
+            """Not moved, and the robot stopped close enough to its approach pose for the wrist."""
+            off = distance(visit.arrived, self.approach_goal(pot)) if visit.arrived is not None else 0.0
+            return not visit.moved and off <= c.moved_approach_xy * 1.5
+
+        again = Selector(f"approach again {pot.id}", memory=True, children=[
+            self._timed(NavigateTo(f"approach closely {pot.id}", self.nav, lambda: self.approach_goal(pot), clock,
+                                   count, c.moved_approach_xy), self.mission.nav_timeout),
+            self._drive(f"approach again {pot.id}", lambda: self.approach_goal(pot), count)])
         moved = Selector(f"moved {pot.id}", memory=True, children=[
-            Check(f"in place {pot.id}", lambda: not visit.moved),
-            Sequence(f"approach again {pot.id}", memory=True, children=[
-                self._drive(f"approach moved {pot.id}", lambda: self.approach_goal(pot), count),
-                Do(f"arrived again {pot.id}", arrived), read_front("front camera again")])])
+            Check(f"in place {pot.id}", in_place),
+            Sequence(f"re-approach {pot.id}", memory=True, children=[
+                again, Do(f"arrived again {pot.id}", arrived), read_front("front camera again")])])
         inspect = self._arm(f"arm to inspect {pot.id}", lambda: self.inspect_goal(pot, visit))
         look = self._timed(DetectFlower(f"detect flower {pot.id}", cams["wrist"], self.detector, visit, clock, c.settle),
                            c.frame_timeout)
@@ -302,13 +312,15 @@ class PatrolTree:
         search = SearchTag(f"search {pot.id}", self.nav, lambda: finder.search_looks(pot), self.cameras["front"],
                            self.tag_reader, found, self.clock, c.settle, c.search_look_timeout)
 
+        timed = self._timed(search, c.search_time)
+
         def not_found() -> bool:
             visit.failures["search"] = (f"tag {pot.tag} not found within {c.search_radius:g} m of the mission's "
-                                        f"position ({why(search)})")
+                                        f"position ({why(timed)})")
             return False
 
         return Selector(f"find {pot.id}", memory=True, children=[
-            Check(f"tag at {pot.id}", placed), self._timed(search, c.search_time), Do(f"not found {pot.id}", not_found)])
+            Check(f"tag at {pot.id}", placed), timed, Do(f"not found {pot.id}", not_found)])
 
     # --- reading it ----------------------------------------------------------------------
     def current_step(self) -> str:
