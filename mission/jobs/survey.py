@@ -245,13 +245,13 @@ class SurveyRun:
         self.reason = self.reason or reason
         self.nav.cancel(self.now, reason or "search over")
         self.phase = Phase.HOME
-        self._drive("home", Pose2D())
+        self._drive("home", Pose2D(), timeout=math.inf)  # however far: the progress checker ends a stuck drive
 
     # --- pieces ------------------------------------------------------------------------------
-    def _drive(self, label: str, goal: Pose2D, xy_tolerance: float | None = None) -> None:
+    def _drive(self, label: str, goal: Pose2D, xy_tolerance: float | None = None, timeout: float | None = None) -> None:
         self._goal = (label, goal)
         self._checked = self.now
-        self.nav.navigate_to(goal, self.now, self.config.survey.goal_timeout, xy_tolerance)
+        self.nav.navigate_to(goal, self.now, timeout or self.config.survey.goal_timeout, xy_tolerance)
 
     def _map(self) -> OccupancyMap | None:
         return self.nav.localisation.occupancy  # a survey maps as it goes (``survey_config``)
