@@ -67,14 +67,15 @@ class RendererPool:
 
 def _in_view(m: mujoco.MjModel, d: mujoco.MjData, cam: int, aspect: float, far: float) -> np.ndarray:
     """Per geom: may its bounding sphere show in camera ``cam``'s view, no farther than ``far``?
-    (Conservative: a sphere touching the frustum counts.)"""
+    (Conservative: a sphere touching the frustum counts. A plane, the floor, has no bounding
+    sphere, MuJoCo's rbound 0: always in view.)"""
     rel = (d.geom_xpos - d.cam_xpos[cam]) @ d.cam_xmat[cam].reshape(3, 3)  # camera frame: x right, y up, looking down -z
     depth, r = -rel[:, 2], m.geom_rbound
     ty = math.tan(math.radians(m.cam_fovy[cam]) / 2)
     tx = ty * aspect
     sides = ((np.abs(rel[:, 0]) - depth * tx) / math.hypot(1.0, tx) <= r) & \
             ((np.abs(rel[:, 1]) - depth * ty) / math.hypot(1.0, ty) <= r)
-    return sides & (depth >= -r) & (np.linalg.norm(rel, axis=1) - r <= far)
+    return (sides & (depth >= -r) & (np.linalg.norm(rel, axis=1) - r <= far)) | (r == 0)
 
 
 class SimCamera:

@@ -27,7 +27,7 @@ class FakeNav:
     def __init__(self):
         self.state, self.reason, self.goals, self.cancels = State.IDLE, "", [], 0
 
-    def navigate_to(self, goal, now, timeout=None):
+    def navigate_to(self, goal, now, timeout=None, xy_tolerance=None):
         self.goals.append((goal, now, timeout))
         self.state = State.FOLLOWING
 
