@@ -76,7 +76,11 @@ def select(names: list[str]) -> list[str]:
 
 
 def summarise(name: str, sample: Sample) -> dict:
+    """Median and p95 of the times (None when nothing was timed: every attempt failed, which
+    the figures then say) and the benchmark's own figures."""
     t = np.asarray(sample.times_ms, dtype=float)
+    if not t.size:
+        return {"name": name, "median_ms": None, "p95_ms": None, "n": 0, **sample.figures}
     return {"name": name, "median_ms": round(float(np.median(t)), 3),
             "p95_ms": round(float(np.percentile(t, 95)), 3), "n": int(t.size), **sample.figures}
 
@@ -90,6 +94,7 @@ def run(names: list[str], as_json: bool, config: LupinConfig) -> list[dict]:
             print(json.dumps(row), flush=True)
         else:
             extra = ", ".join(f"{k} {v}" for k, v in row.items() if k not in ("name", "median_ms", "p95_ms", "n"))
-            print(f"{name:<16} median {row['median_ms']:9.3f} ms  p95 {row['p95_ms']:9.3f} ms  n {row['n']:4d}"
+            ms = lambda v: "      n/a" if v is None else f"{v:9.3f}"  # noqa: E731
+            print(f"{name:<16} median {ms(row['median_ms'])} ms  p95 {ms(row['p95_ms'])} ms  n {row['n']:4d}"
                   + (f"  ({extra})" if extra else ""), flush=True)
     return out
