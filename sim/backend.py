@@ -23,6 +23,7 @@ from sim.greenhouse import build_greenhouse
 from sim.lidar import SimLidar
 from sim.sensors import SimBattery, SimEStopButton, SimImu, SimLedStrip
 from sim.servos import SimServoBus
+from sim.walkers import SimWalkers
 from sim.world import World
 
 BASE_JOINTS = ("base_x", "base_y", "base_yaw")
@@ -49,8 +50,12 @@ class SimRobot:
         self.renderers = RendererPool(engine)
         cams = {k: SimCamera(self.renderers, v, sc.camera.width, sc.camera.height, sc.camera.draw_distance)
                 for k, v in CAMERAS.items()}
+        self.walkers = SimWalkers(engine, world.walkers, lambda: (self.truth().x, self.truth().y))
+        """The people walking the greenhouse (they stop short of the robot's true position)."""
+        if world.walkers:
+            engine.attach(self.walkers)
         self.faults = SimFaults(engine, self.lidar, self.servos, self.battery, self.button, cams, controllers,
-                                {p.id: (p.x, p.y) for p in world.pots})
+                                {p.id: (p.x, p.y) for p in world.pots}, self.walkers)
         self.clock = SimClock(self._paced(engine) if sc.realtime else engine.advance_to, start=engine.time)
         self.hal = Hal(
             clock=self.clock,

@@ -21,7 +21,7 @@ from sim.servos import SimServoBus
 class SimFaults:
     def __init__(self, engine: Engine, lidar: SimLidar, servos: SimServoBus, battery: SimBattery,
                  button: SimEStopButton, cameras: dict[str, SimCamera], controllers=None,
-                 pots: dict[str, tuple[float, float]] | None = None):
+                 pots: dict[str, tuple[float, float]] | None = None, walkers=None):
         self.engine = engine
         self.pots = dict(pots or {})
         """Each pot's centre (world frame), where it stands now."""
@@ -32,6 +32,7 @@ class SimFaults:
         self._cameras = cameras
         self.controllers = controllers
         self._boxes_used = 0
+        self._walkers = walkers
 
     def estop(self, engaged: bool) -> None:
         """Press or release the physical button."""
@@ -93,6 +94,12 @@ class SimFaults:
             m.geom_quat[i] = quat
         self.pots[pot] = (cx + dx, cy + dy)
         mujoco.mj_kinematics(m, self.engine.data)  # in place now, for the next render or ray
+
+    def walker(self, walker: str, moving: bool) -> None:
+        """A walker stops where it is (``moving`` False: someone stops to talk) or walks on."""
+        if self._walkers is None:
+            raise ValueError("this sim has no walkers")
+        self._walkers.hold(walker, not moving)
 
     def controller_race(self, controllers: list[str], state: str) -> None:
         """Bring controllers up broken (the seed's boot race): missing, unconfigured or inactive."""

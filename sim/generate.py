@@ -18,6 +18,11 @@ one at the north end and one every ``DOOR_SPACING`` metres between: the robot cr
 to bay through the cross aisles, so a long greenhouse is also a test of planning through
 doorways and of SLAM in rooms joined by narrow gaps.
 
+With ``walkers`` K, K people walk the aisles: each along one aisle between two rows (or the
+north aisle), from the row's first pot to past its last, at a seeded walking speed with a
+pause at each end and a staggered start (never the south aisle the robot starts in, so no one
+stands on the spawn).
+
 Each pot gets a unique tag (1, 2, 3, ...: AprilTag 36h11 has ids 0..586, so at most 586
 pots), a seeded flower colour, 1..3 blooms and a climate reading; with 3 or more pots at least
 one pot has no bloom (``none``) and at least one has a pest (``bug``), as the spec asks ("some
@@ -30,7 +35,7 @@ import random
 
 from hw.errors import InputError
 from hw.tag_family import TAG_IDS
-from sim.world import Climate, Floor, Obstacle, Pose2, Pot, World, validate_world, world_problems
+from sim.world import Climate, Floor, Obstacle, Pose2, Pot, Walker, World, validate_world, world_problems
 
 MAX_ROWS = 40
 """Largest --rows (and --pots-per-row) accepted: a 40 x 40 m greenhouse is already far beyond
@@ -65,18 +70,29 @@ DOOR_SPACING = 6.0
 """Most a robot walks along a divider to reach a doorway, m: doorways at both ends and at least
 every this many metres between."""
 
+MAX_WALKERS = 50
+"""Largest --walkers accepted."""
+WALKER_SPEED = (0.6, 1.2)
+"""Seeded walking speed range, m/s (a grower at work, not hurrying)."""
+WALKER_PAUSE = (2.0, 8.0)
+"""Seeded standing time at each end of the aisle, s."""
+WALKER_START = 30.0
+"""Latest seeded start, s."""
+
 _SOUTH, _NORTH = -math.pi / 2, math.pi / 2
 
 
-def generate_world(rows: int, pots_per_row: int, seed: int, name: str | None = None, bays: int = 1) -> World:
+def generate_world(rows: int, pots_per_row: int, seed: int, name: str | None = None, bays: int = 1,
+                   walkers: int = 0) -> World:
     """A valid world of ``bays`` x ``rows`` x ``pots_per_row`` pots, the same for the same arguments.
 
     Raises :class:`InputError` for sizes outside 1..40 (bays 1..10) or more pots than there are
     tag ids.
     """
-    for option, value, most in (("rows", rows, MAX_ROWS), ("pots per row", pots_per_row, MAX_ROWS), ("bays", bays, MAX_BAYS)):
-        if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= most:
-            raise InputError(f"{option} must be a whole number from 1 to {most} (got {value!r})")
+    for option, value, least, most in (("rows", rows, 1, MAX_ROWS), ("pots per row", pots_per_row, 1, MAX_ROWS),
+                                       ("bays", bays, 1, MAX_BAYS), ("walkers", walkers, 0, MAX_WALKERS)):
+        if isinstance(value, bool) or not isinstance(value, int) or not least <= value <= most:
+            raise InputError(f"{option} must be a whole number from {least} to {most} (got {value!r})")
     count = bays * rows * pots_per_row
     max_pots = len(TAG_IDS) - 1  # tags start at 1
     if count > max_pots:
@@ -115,10 +131,28 @@ def generate_world(rows: int, pots_per_row: int, seed: int, name: str | None = N
         spawn=Pose2(x=SPAWN[0], y=SPAWN[1], yaw=SPAWN[2]),
         pots=pots,
         obstacles=[box for b in range(1, bays) for box in _divider(b * bay_length, floor_y)],
+        walkers=_walkers(walkers, rows, bays, bay_length, pots_per_row, floor_y, random.Random(f"{seed}-walkers")),
         climate=climate,
     )
     validate_world(world, source=f"generated world {world.name!r}")  # a failure here is a bug
     return world
+
+
+def _walkers(count: int, rows: int, bays: int, bay_length: float, pots_per_row: int, floor_y: float,
+             rng: random.Random) -> list[Walker]:
+    """``count`` people, each walking one aisle of one bay end to end (its own random stream, so
+    adding walkers never changes the pots)."""
+    aisles = [FIRST_ROW_Y + (r + 0.5) * ROW_PITCH for r in range(rows - 1)]
+    aisles.append(round((FIRST_ROW_Y + (rows - 1) * ROW_PITCH + floor_y) / 2, 3))  # the north aisle
+    out = []
+    for k in range(count):
+        bay, y = rng.randrange(bays), rng.choice(aisles)
+        x0 = bay * bay_length + FIRST_POT_X
+        x1 = x0 + (pots_per_row - 1) * POT_PITCH + 0.8
+        out.append(Walker(id=f"W{k + 1}", path=[[round(x0, 3), y], [round(x1, 3), y]],
+                          speed=round(rng.uniform(*WALKER_SPEED), 2), pause=round(rng.uniform(*WALKER_PAUSE), 1),
+                          start=round(rng.uniform(0.0, WALKER_START), 1)))
+    return out
 
 
 def _divider(x: float, floor_y: float) -> list[Obstacle]:

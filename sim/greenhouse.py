@@ -15,6 +15,10 @@ world file describes, with the fixed geometry of :class:`sim.config.GreenhouseGe
 - the world's obstacles as boxes ``obstacle_<i>``;
 - four parked mocap boxes ``spare_box_<k>`` (geom ``spare_box_<k>_geom``) that the backend
   moves and resizes to place boxes at run time (the ``place_box`` fault);
+- per walker (spec/world.md ``walkers``), a mocap body ``walker_<id>`` standing at the start of
+  its path: two legs, a torso and a head, as wide as the walker (0.45 m for a person, more for
+  one pushing a cart), 1.75 m tall, world collision geoms the lidar and the cameras see and the
+  chassis can touch (``sim.walkers`` moves them);
 - an orthographic ``overview`` camera looking straight down at the whole floor.
 
 Geom groups: 0 = world collision geoms (floor, walls, pots, obstacles, boxes: what the lidar
@@ -124,6 +128,7 @@ def greenhouse_xml(world: World, geometry: GreenhouseGeometry | None, asset_dir:
     body += [_pot(pot, g) for pot in world.pots]
     body += [_obstacle(i, box) for i, box in enumerate(world.obstacles)]
     body += [_spare_box(k) for k in range(SPARE_BOXES)]
+    body += [_walker(w) for w in world.walkers]
     body.append(_overview_camera(fx, fy, g))
 
     return f"""<mujoco model={quoteattr('greenhouse ' + world.name)}>
@@ -157,6 +162,8 @@ def greenhouse_xml(world: World, geometry: GreenhouseGeometry | None, asset_dir:
     <material name="plate_card" rgba="{_rgb(tuple(c / 255 for c in PAPER_RGB))} 1" specular="0"/>
     <material name="obstacle" rgba="0.30 0.40 0.55 1" specular="0.1"/>
     <material name="spare_box" rgba="0.55 0.45 0.30 1" specular="0.05"/>
+    <material name="walker_clothes" rgba="0.20 0.25 0.45 1" specular="0.05"/>
+    <material name="walker_skin" rgba="0.80 0.62 0.50 1" specular="0.05"/>
 {chr(10).join(tag_assets)}
   </asset>
 
@@ -277,6 +284,28 @@ def _spare_box(k: int) -> str:
     return (f'    <body name="spare_box_{k}" mocap="true" pos="{10.0 * k:.1f} 0 {PARKED_Z}">\n'
             "      " + _static(f"spare_box_{k}_geom", f'type="box" size="{size}" material="spare_box"') + "\n"
             "    </body>")
+
+
+def _walker(w) -> str:
+    """A person (or one pushing a cart) facing +x in its body frame, feet on the floor: legs
+    0.85 m, torso to 1.5 m, head to 1.75 m; as wide as ``w.width`` across the shoulders, the
+    legs apart by half of it, and as deep as a person (0.25 m) unless it pushes a cart (then a
+    cart-deep box in front at knee height)."""
+    half, leg = w.width / 2, 0.07
+    x0, y0 = w.path[0]
+    parts = [
+        _static(f"walker_{w.id}_leg_l", f'type="capsule" fromto="0 {half / 2:.3f} 0.08 0 {half / 2:.3f} 0.85" '
+                f'size="{leg}" material="walker_clothes"'),
+        _static(f"walker_{w.id}_leg_r", f'type="capsule" fromto="0 {-half / 2:.3f} 0.08 0 {-half / 2:.3f} 0.85" '
+                f'size="{leg}" material="walker_clothes"'),
+        _static(f"walker_{w.id}_torso", f'type="box" pos="0 0 1.18" size="0.12 {half:.3f} 0.32" material="walker_clothes"'),
+        _static(f"walker_{w.id}_head", 'type="sphere" pos="0 0 1.64" size="0.11" material="walker_skin"'),
+    ]
+    if w.width > 0.6:  # the cart: a box in front at knee height, as wide as the walker
+        parts.append(_static(f"walker_{w.id}_cart", f'type="box" pos="0.45 0 0.45" size="0.3 {half:.3f} 0.25" '
+                             'material="spare_box"'))
+    inner = "\n".join("      " + p for p in parts)
+    return f'    <body name="walker_{w.id}" mocap="true" pos="{x0:.4f} {y0:.4f} 0">\n{inner}\n    </body>'
 
 
 def _overview_camera(fx: float, fy: float, g: GreenhouseGeometry) -> str:

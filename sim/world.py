@@ -21,7 +21,7 @@ Public API: :class:`World` and its parts, :func:`load_world`, :func:`parse_world
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 import yaml
 from pydantic import Field, ValidationError
@@ -100,6 +100,23 @@ class Obstacle(StrictEntry):
     """Height, m. The default 0.8 m stands well above the lidar plane, so the robot sees it."""
 
 
+class Walker(StrictEntry):
+    """A person walking the greenhouse (spec/world.md): along ``path`` and back, for ever."""
+
+    id: str = Field(min_length=1)
+    """Unique among the walkers."""
+    path: list[Annotated[list[float], Field(min_length=2, max_length=2)]] = Field(min_length=2)
+    """Waypoints [x, y], world frame: walked in order, then back (ping-pong)."""
+    speed: float = Field(ge=0.2, le=1.5)
+    """Walking speed along the path, m/s (people walk at 0.8 to 1.4)."""
+    pause: float = Field(0.0, ge=0)
+    """Seconds standing still at each end of the path."""
+    start: float = Field(0.0, ge=0)
+    """Sim seconds before the walker sets off."""
+    width: float = Field(0.45, ge=0.2, le=1.2)
+    """Body width across the shoulders, m: 0.45 for a person; up to 1.2 for one pushing a cart."""
+
+
 class Climate(StrictEntry):
     """What the sim's climate source returns for one tag (the original robot's "climate data",
     reference/upstream.md). Every field is optional: a report carries only what a source knows
@@ -130,6 +147,8 @@ class World(StrictEntry):
     """The pots, in any order; ids and tags are unique."""
     obstacles: list[Obstacle] = []
     """Optional extra boxes standing on the floor."""
+    walkers: list[Walker] = []
+    """Optional people walking the aisles."""
     climate: dict[int, Climate] = {}
     """Optional climate readings keyed by tag id; every key must be a tag that some pot carries."""
 
@@ -204,6 +223,8 @@ def dump_world(world: World) -> str:
     }
     if world.obstacles:
         data["obstacles"] = [o.model_dump() for o in world.obstacles]
+    if world.walkers:
+        data["walkers"] = [w.model_dump() for w in world.walkers]
     if world.climate:
         data["climate"] = {k: c.model_dump(exclude_none=True) for k, c in world.climate.items()}
     body = yaml.safe_dump(data, sort_keys=False, default_flow_style=None, width=120)

@@ -80,7 +80,44 @@ def world_problems(
     for tag in world.climate:
         if tag not in first_tag:
             out.append(f"climate[{tag}]: key {tag}: no pot carries tag {tag}")
+    out += _walker_problems(world, r)
     return out
+
+
+def _walker_problems(world: World, pot_radius: float) -> list[str]:
+    """A walker's path must keep its body (a circle of half its width) on the floor and clear of
+    every pot and box; ids unique."""
+    out, seen = [], {}
+    for k, w in enumerate(world.walkers):
+        where = f"walkers[{k}] (id {w.id})"
+        if w.id in seen:
+            out.append(f"{where}: field 'id': duplicate of walkers[{seen[w.id]}]")
+        seen.setdefault(w.id, k)
+        half = w.width / 2
+        for a, b in zip(w.path, w.path[1:]):
+            crossed = _path_crossing(world, a, b, half, pot_radius)
+            if crossed:
+                out.append(f"{where}: field 'path': the segment ({a[0]:g}, {a[1]:g}) -> ({b[0]:g}, {b[1]:g}) "
+                           f"crosses {crossed}")
+                break
+    return out
+
+
+def _path_crossing(world: World, a, b, half: float, pot_radius: float) -> str | None:
+    """What a body of radius ``half`` walking from a to b would walk into, or None."""
+    n = max(2, int(math.hypot(b[0] - a[0], b[1] - a[1]) / 0.02) + 1)
+    for t in (k / (n - 1) for k in range(n)):
+        x, y = a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])
+        wall = _circle_in_floor(x, y, half, world.floor.x, world.floor.y, "walker")
+        if wall:
+            return f"a wall ({wall[0].split(': ', 1)[-1]})" if ": " in wall[0] else "a wall"
+        for i, pot in enumerate(world.pots):
+            if math.hypot(pot.x - x, pot.y - y) < pot_radius + half - _EPS:
+                return f"{_pot(i, world)} at ({pot.x:g}, {pot.y:g})"
+        for j, box in enumerate(world.obstacles):
+            if _distance_to_box(x, y, box) < half - _EPS:
+                return f"obstacles[{j}] at ({box.x:g}, {box.y:g})"
+    return None
 
 
 def robot_circle_problems(world: World, x: float, y: float, pot_radius: float,

@@ -59,7 +59,7 @@ def surveyed_patrol(config, backend: Backend, world: Optional[Path], events: Opt
         from mission.patrol.events_file import load_events
 
         w = world_or_default(world)
-        script = [] if events is None else load_events(events, config, frozenset(p.id for p in w.pots))
+        script = [] if events is None else load_events(events, config, w)
         (survey_run, sim_run), name = start_sim_survey(w, config), f"{w.name}-survey"
     t0 = time.perf_counter()
     try:
@@ -160,7 +160,7 @@ def patrol(
         w = world_or_default(world)
         m = mission_from_world(w) if mission is None else load_mission(mission)
         check_map(m, saved_map)
-        script = [] if events is None else load_events(events, config, frozenset(p.id for p in w.pots))
+        script = [] if events is None else load_events(events, config, w)
         check_report(report)
         run = start_sim_patrol(w, m, config, report, time.perf_counter, script)
     m = run.tree.mission

@@ -108,6 +108,8 @@ class EventPlayer:
                 f.camera_dropout(e.camera, e.duration)
             case ev.MovePot():
                 f.move_pot(e.pot, e.dx, e.dy, e.dyaw)
+            case ev.WalkerEvent():
+                f.walker(e.walker, e.moving)
 
     def _teleop(self, i: int, e: ev.Teleop, now: float) -> None:
         name, twist, mux = f"event.{i}.teleop.publish", Twist(e.vx, e.vy, e.wz), self.robot.mux

@@ -123,8 +123,16 @@ class MovePot(_Event):
     """Turn about its centre, rad (its plate turns with it)."""
 
 
+class WalkerEvent(_Event):
+    do: Literal["walker"]
+    walker: str = Field(min_length=1)
+    """The world's walker id."""
+    moving: bool
+    """False: the walker stops where it is (someone stops to talk); true: walks on."""
+
+
 EVENT_TYPES = (EStop, SoftEStop, Resume, Pause, LidarDropout, ServoStall, Battery, ClearMap, Teleop, PlaceBox,
-               ControllerRace, CameraDropout, MovePot)
+               ControllerRace, CameraDropout, MovePot, WalkerEvent)
 ACTIONS = {t.model_fields["do"].annotation.__args__[0]: t for t in EVENT_TYPES}
 Event = Annotated[Union[EVENT_TYPES], Field(discriminator="do")]
 _EVENTS = TypeAdapter(list[Event])
@@ -146,7 +154,8 @@ def _error_line(err: dict[str, Any], data: list) -> str:
     return f"{entry} (do {action}): field '{'.'.join(str(p) for p in rest)}': {what}" if rest else f"{entry} (do {action}): {what}"
 
 
-def _problems(events: list, config: LupinConfig, pots: frozenset[str] | None) -> list[str]:
+def _problems(events: list, config: LupinConfig, pots: frozenset[str] | None,
+              walkers: frozenset[str] | None) -> list[str]:
     """What the schema cannot know: the robot's joints and controllers, the sim's spare boxes,
     whether there is a live map, the world's pots (when the world is known)."""
     joints, controllers = tuple(config.hw.servos.joints), tuple(config.hw.controllers)
@@ -164,6 +173,9 @@ def _problems(events: list, config: LupinConfig, pots: frozenset[str] | None) ->
             out.append(f"{here}: the config localises on a saved map (nav.slam false): there is no live map to clear")
         if isinstance(e, MovePot) and pots is not None and e.pot not in pots:
             out.append(f"{here}: field 'pot': the world has no pot {e.pot!r}")
+        if isinstance(e, WalkerEvent) and walkers is not None and e.walker not in walkers:
+            known = ", ".join(sorted(walkers)) or "none"
+            out.append(f"{here}: field 'walker': the world has no walker {e.walker!r} (walkers: {known})")
         if isinstance(e, PlaceBox):
             boxes += 1
             if boxes > SPARE_BOXES:
@@ -171,9 +183,10 @@ def _problems(events: list, config: LupinConfig, pots: frozenset[str] | None) ->
     return out
 
 
-def parse_events(data: Any, source: str, config: LupinConfig, pots: frozenset[str] | None = None) -> list:
+def parse_events(data: Any, source: str, config: LupinConfig, world=None) -> list:
     """Checked events from parsed YAML, sorted by ``at`` (file order at the same instant);
-    ``pots``: the world's pot ids, which ``move_pot`` must name."""
+    ``world`` (the sim's, when known): its pot and walker ids are the ones ``move_pot`` and
+    ``walker`` must name (read from it, so this module never needs the sim)."""
     if not isinstance(data, list):
         raise InputError(f"{source}: top level: must be a list of events such as - {{at: 10.0, do: pause}} "
                          f"(got {kind_of(data)})")
@@ -181,13 +194,15 @@ def parse_events(data: Any, source: str, config: LupinConfig, pots: frozenset[st
         events = _EVENTS.validate_python(data)
     except ValidationError as exc:
         raise InputError("\n".join(f"{source}: {_error_line(err, data)}" for err in exc.errors())) from None
-    problems = _problems(events, config, pots)
+    pots = None if world is None else frozenset(p.id for p in world.pots)
+    walkers = None if world is None else frozenset(w.id for w in world.walkers)
+    problems = _problems(events, config, pots, walkers)
     if problems:
         raise InputError("\n".join(f"{source}: {p}" for p in problems))
     return sorted(events, key=lambda e: e.at)
 
 
-def load_events(path: str | Path, config: LupinConfig, pots: frozenset[str] | None = None) -> list:
+def load_events(path: str | Path, config: LupinConfig, world=None) -> list:
     """Read and check an events file; ``InputError`` (only) for anything wrong with it."""
     data = read_yaml(path, "events file")
-    return parse_events(data, str(path), config, pots)
+    return parse_events(data, str(path), config, world)

@@ -190,7 +190,7 @@ def parse_scenario(data: Any, path: Path, base_config: LupinConfig) -> Scenario:
         config = with_seed(config, spec.seed)
     world = load_default_world() if spec.world == "default" else load_world(_relative(path, spec.world))
     mission = mission_from_world(world) if spec.mission == "from-world" else load_mission(_relative(path, spec.mission))
-    events = parse_events(spec.events, source, config, frozenset(p.id for p in world.pots))
+    events = parse_events(spec.events, source, config, world)
     return Scenario(path, spec, world, mission, events, config)
 
 

@@ -2,6 +2,8 @@
 naming the file, the entry, its action and the field."""
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import pytest
 
 from hw.errors import InputError
@@ -75,14 +77,29 @@ def test_mistakes_are_named(data, message):
     assert message in str(exc.value)
 
 
+class _World:
+    """The two id lists the events file checks against (the sim's World has them)."""
+    pots = [SimpleNamespace(id="P01"), SimpleNamespace(id="P02")]
+    walkers = [SimpleNamespace(id="W1")]
+
+
 def test_a_pot_moved_must_be_one_of_the_worlds():
-    pots = frozenset({"P01", "P02"})
+    pots = _World()
     moved = parse_events([{"at": 3.0, "do": "move_pot", "pot": "P02", "dx": 0.1}], "e.yaml", LupinConfig(), pots)
     assert (moved[0].pot, moved[0].dx, moved[0].dy, moved[0].dyaw) == ("P02", 0.1, 0.0, 0.0)
     with pytest.raises(InputError, match=r"e.yaml: events\[0\] \(do move_pot\): field 'pot': the world has no pot 'P09'"):
         parse_events([{"at": 3.0, "do": "move_pot", "pot": "P09"}], "e.yaml", LupinConfig(), pots)
     with pytest.raises(InputError, match="field 'pot': missing required key"):
         parse_events([{"at": 3.0, "do": "move_pot", "dx": 0.1}], "e.yaml", LupinConfig(), pots)
+
+
+def test_a_walker_event_must_name_one_of_the_worlds_walkers():
+    stop = parse_events([{"at": 3.0, "do": "walker", "walker": "W1", "moving": False}], "e.yaml", LupinConfig(), _World())
+    assert (stop[0].walker, stop[0].moving) == ("W1", False)
+    with pytest.raises(InputError, match=r"events\[0\] \(do walker\): field 'walker': the world has no walker 'W7' \(walkers: W1\)"):
+        parse_events([{"at": 3.0, "do": "walker", "walker": "W7", "moving": True}], "e.yaml", LupinConfig(), _World())
+    with pytest.raises(InputError, match="field 'moving': missing required key"):
+        parse_events([{"at": 3.0, "do": "walker", "walker": "W1"}], "e.yaml", LupinConfig(), _World())
 
 
 def test_every_problem_is_reported_at_once():

@@ -1,0 +1,87 @@
+"""Walkers in world files (spec/world.md ``walkers``): a path through a pot, a wall or a box is
+rejected naming the walker and what it crosses; ids unique; bad fields named; the generator's
+walkers are valid and stable."""
+from __future__ import annotations
+
+import copy
+
+import pytest
+
+from hw.errors import InputError
+from sim.generate import generate_world
+from sim.world import dump_world, parse_world
+
+WORLD = {
+    "name": "aisle",
+    "floor": {"x": 8.0, "y": 3.0},
+    "spawn": {"x": 0.5, "y": 0.5, "yaw": 0.0},
+    "pots": [{"id": "P01", "x": 3.0, "y": 1.0, "facing": -1.5708, "tag": 1, "flower": "red"}],
+    "obstacles": [{"x": 6.0, "y": 2.5, "sx": 0.3, "sy": 0.3}],
+    "walkers": [{"id": "W1", "path": [[2.0, 2.0], [7.0, 2.0]], "speed": 0.8}],
+}
+
+
+def _with(**walker):
+    data = copy.deepcopy(WORLD)
+    data["walkers"][0].update(walker)
+    return data
+
+
+def test_a_good_walker_reads_with_its_defaults_and_round_trips():
+    world = parse_world(WORLD, "w.yaml")
+    w = world.walkers[0]
+    assert (w.pause, w.start, w.width) == (0.0, 0.0, 0.45)
+    assert parse_world(__import__("yaml").safe_load(dump_world(world)), "again").walkers == world.walkers
+
+
+@pytest.mark.parametrize("path, crossed", [
+    ([[2.0, 1.0], [4.0, 1.0]], "pots[0] (id P01)"),
+    ([[2.0, 2.0], [9.0, 2.0]], "a wall"),
+    ([[5.0, 2.5], [7.0, 2.5]], "obstacles[0] at (6, 2.5)"),
+])
+def test_a_path_through_something_names_the_walker_and_what_it_crosses(path, crossed):
+    with pytest.raises(InputError) as exc:
+        parse_world(_with(path=path), "w.yaml")
+    msg = str(exc.value)
+    assert msg.startswith("w.yaml: walkers[0] (id W1): field 'path': the segment")
+    assert crossed in msg
+
+
+def test_a_wide_walker_needs_a_wider_gap():
+    parse_world(_with(path=[[2.0, 1.45], [4.0, 1.45]]), "w.yaml")  # a person passes 0.13 m from the pot
+    with pytest.raises(InputError, match="crosses pots\\[0\\]"):
+        parse_world(_with(path=[[2.0, 1.45], [4.0, 1.45]], width=1.0), "w.yaml")  # a cart does not
+
+
+@pytest.mark.parametrize("walker, message", [
+    ({"speed": 3.0}, "field 'speed'"),
+    ({"path": [[2.0, 2.0]]}, "field 'path'"),
+    ({"path": [[2.0, 2.0, 1.0], [3.0, 2.0]]}, "field 'path.0'"),
+    ({"pause": -1}, "field 'pause'"),
+    ({"width": 2.0}, "field 'width'"),
+    ({"shirt": "red"}, "shirt"),
+])
+def test_bad_walker_fields_are_named(walker, message):
+    with pytest.raises(InputError) as exc:
+        parse_world(_with(**walker), "w.yaml")
+    assert "walkers[0]" in str(exc.value) and message in str(exc.value)
+
+
+def test_walker_ids_are_unique():
+    data = copy.deepcopy(WORLD)
+    data["walkers"].append(dict(data["walkers"][0]))
+    with pytest.raises(InputError, match=r"walkers\[1\] \(id W1\): field 'id': duplicate of walkers\[0\]"):
+        parse_world(data, "w.yaml")
+
+
+def test_generated_walkers_walk_aisles_clear_of_the_spawn_and_leave_the_pots_alone():
+    plain, peopled = generate_world(4, 6, seed=5), generate_world(4, 6, seed=5, walkers=6)
+    assert plain.pots == peopled.pots and not plain.walkers
+    assert [w.id for w in peopled.walkers] == [f"W{k}" for k in range(1, 7)]
+    for w in peopled.walkers:
+        (x0, y0), (x1, y1) = w.path
+        assert y0 == y1 and x1 > x0 + 4.0  # along a whole aisle
+        assert y0 > 1.0  # never the south aisle the robot starts in
+    assert generate_world(4, 6, seed=5, walkers=6).walkers == peopled.walkers
+    with pytest.raises(InputError, match="walkers must be a whole number from 0 to 50"):
+        generate_world(4, 6, seed=5, walkers=51)

@@ -1,0 +1,74 @@
+"""The sim's walkers (sim/walkers.py): they walk their path at their speed, stand at each end for
+their pause and walk back, start late when asked, stop short of the robot and only there, stop
+and go on command, and the lidar sees them."""
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+import pytest
+
+from hw.config import HwConfig
+from sim.backend import SimRobot
+from sim.config import SimConfig
+from sim.walkers import KEEP_CLEAR
+from sim.world import Floor, Pose2, Walker, World, ROBOT_RADIUS
+
+pytestmark = pytest.mark.slow
+
+
+def _robot(spawn=(0.6, 0.6), **walker) -> SimRobot:
+    w = Walker(**{"id": "W1", "path": [[2.0, 2.0], [6.0, 2.0]], "speed": 1.0, **walker})
+    world = World(name="walk", floor=Floor(x=8.0, y=4.0), spawn=Pose2(x=spawn[0], y=spawn[1], yaw=0.0),
+                  pots=[], walkers=[w])
+    return SimRobot(world, SimConfig(), HwConfig())
+
+
+def _at(sim: SimRobot, t: float) -> tuple[float, float]:
+    sim.engine.advance_to(t)
+    x, y, _ = sim.walkers.positions()["W1"]
+    return x, y
+
+
+def test_a_walker_walks_its_path_pauses_and_comes_back():
+    sim = _robot(pause=1.0, start=0.5)
+    assert _at(sim, 0.4) == pytest.approx((2.0, 2.0))          # not started yet
+    assert _at(sim, 2.5)[0] == pytest.approx(4.0, abs=0.02)    # 2 s at 1 m/s
+    assert _at(sim, 4.6)[0] == pytest.approx(6.0, abs=0.02)    # at the end
+    assert _at(sim, 5.4)[0] == pytest.approx(6.0, abs=0.02)    # standing out its pause
+    assert _at(sim, 6.6)[0] == pytest.approx(4.9, abs=0.02)    # and walking back (end at 4.5 s + 1 s)
+    body = sim.engine.data.xpos[sim.engine.id(mujoco.mjtObj.mjOBJ_BODY, "walker_W1")]
+    assert body[0] == pytest.approx(4.9, abs=0.02)              # the body moves with it
+
+
+def test_a_walker_stops_short_of_the_robot_and_goes_on_when_it_leaves():
+    sim = _robot(spawn=(4.0, 2.0))
+    x, _ = _at(sim, 4.0)
+    gap = 4.0 - x - ROBOT_RADIUS - 0.225
+    assert KEEP_CLEAR - 0.02 <= gap <= KEEP_CLEAR + 0.02       # waiting, 0.3 m from the robot's body
+    sim.place(4.0, 3.5, 0.0)                                   # the robot is lifted out of the aisle
+    assert _at(sim, 6.5)[0] == pytest.approx(x + 2.5, abs=0.02)  # it walks on at its speed
+
+
+def test_a_walker_steps_away_from_a_robot_that_came_too_close():
+    sim = _robot(path=[[3.0, 2.0], [6.0, 2.0]], spawn=(2.6, 2.0))  # the robot right behind it
+    assert _at(sim, 1.0)[0] > 3.5
+
+
+def test_a_held_walker_stands_until_let_go():
+    sim = _robot()
+    x = _at(sim, 1.0)[0]
+    sim.faults.walker("W1", moving=False)
+    assert _at(sim, 3.0)[0] == pytest.approx(x)
+    sim.faults.walker("W1", moving=True)
+    assert _at(sim, 4.0)[0] == pytest.approx(x + 1.0, abs=0.02)
+    with pytest.raises(ValueError, match="no walker 'W9'"):
+        sim.faults.walker("W9", moving=True)
+
+
+def test_the_lidar_sees_a_walker():
+    sim = _robot(spawn=(1.0, 2.0), start=100.0)  # standing at (2, 2), 1 m ahead of the robot
+    sim.engine.advance_to(0.3)
+    scan = sim.lidar.latest_scan()
+    wrapped = np.arctan2(np.sin(scan.angles), np.cos(scan.angles))
+    ahead = scan.ranges[np.abs(wrapped) < 0.1]
+    assert ahead.min() < 1.0  # a body ~0.8-0.95 m ahead, not the wall 7 m away
