@@ -23,6 +23,7 @@ from hw.interfaces import DeviceError
 from lupin import bench as bench_mod
 from lupin.cli.detect import detect
 from lupin.cli.heal import heal
+from lupin.cli.history import history_app
 from lupin.cli.hw import hw_app
 from lupin.cli.map import map_app
 from lupin.cli.mission import mission_app
@@ -45,6 +46,7 @@ app.add_typer(sim_app, name="sim")
 app.add_typer(hw_app, name="hw")
 app.add_typer(map_app, name="map")
 app.add_typer(mission_app, name="mission")
+app.add_typer(history_app, name="history")
 app.add_typer(scenario_app, name="scenario")
 app.command("detect")(detect)
 app.command("heal")(heal)

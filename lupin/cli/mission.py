@@ -1,5 +1,6 @@
-"""`lupin mission ...`: the mission that patrols every pot of a world (``from-world``), and a
-mission brought up to date from a patrol's report (``update``)."""
+"""`lupin mission ...`: the mission that patrols every pot of a world (``from-world``), a
+mission brought up to date from a patrol's report (``update``), and a directed re-scouting
+mission from the patrol history (``rescout``)."""
 from __future__ import annotations
 
 import sys
@@ -42,6 +43,43 @@ def update(
     _write(result.text(), output)
     print(f"{len(result.moved)} moved ({', '.join(result.moved) or 'none'}), {len(result.added)} added for review "
           f"({', '.join(result.added) or 'none'})", file=sys.stderr if output is None else sys.stdout)
+
+
+@mission_app.command("rescout")
+def rescout(
+    ctx: typer.Context,
+    history: Optional[str] = typer.Option(None, "--history", metavar="URL",
+                                          help="The history database (default: history.url)."),
+    last: int = typer.Option(3, "--last", min=1, help="Pots with a pest in any of the last N patrols."),
+    radius: float = typer.Option(1.0, "--radius", min=0.0, help="Plus every pot within R metres of one, m."),
+    mission: Optional[str] = typer.Option(None, "--mission", help="Of this mission's patrols (default: the latest "
+                                          "patrol's mission)."),
+    output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write here instead of stdout."),
+) -> None:
+    """Write a directed re-scouting mission: the pots with a pest in the last N patrols and their
+    neighbours within R metres, in the shortest order. Exit 1 when no pot had a pest."""
+    import math
+
+    from lupin.cli.history import _check_mission, open_for_reading
+    from mission.history.rescout import rescout as make_rescout
+    from mission.patrol.mission_file import dump_mission
+
+    if not math.isfinite(radius):
+        raise InputError(f"--radius {radius}: must be a finite number of metres")
+    store = open_for_reading(ctx, history)
+    _check_mission(store, mission)
+    pests = store.pest_map(last, mission)
+    if not pests.patrols:
+        raise InputError(f"{store.shown}: no patrols recorded: nothing to re-scout from")
+    plan = make_rescout(pests, radius)
+    say = sys.stderr if output is None else sys.stdout
+    if plan is None:
+        print(f"{pests.mission}: no pest in the last {len(pests.patrols)} patrol(s): nothing to re-scout", file=sys.stderr)
+        raise typer.Exit(1)
+    _write(dump_mission(plan.mission), output)
+    print(f"{plan.mission.name}: {len(plan.mission.pots)} pots: {len(plan.pests)} with a pest in the last "
+          f"{len(pests.patrols)} patrol(s) ({', '.join(plan.pests)}), {len(plan.neighbours)} within {radius:g} m "
+          f"({', '.join(plan.neighbours) or 'none'})", file=say)
 
 
 def _write(text: str, output: Optional[Path]) -> None:

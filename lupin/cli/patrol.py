@@ -42,12 +42,24 @@ def check_report(report: Path) -> None:
         raise InputError(f"--report {report}: cannot create {report.parent}: {exc.strerror}") from None
 
 
-def surveyed_patrol(config, backend: Backend, world: Optional[Path], events: Optional[Path], report: Path):
+def open_patrol_history(config, history: Optional[str]):
+    """The history the patrol is recorded in (``--history``, else ``history.url``), opened and
+    proven writable before anything moves: exit 2 naming it when it cannot be."""
+    from mission.history.store import open_history
+
+    return open_history(history if history is not None else config.history.url,
+                        "--history" if history is not None else "history.url",
+                        connect_timeout=config.history.connect_timeout)
+
+
+def surveyed_patrol(config, backend: Backend, world: Optional[Path], events: Optional[Path], report: Path,
+                    history: Optional[str] = None):
     """Survey first, then patrol what the survey found on the same running robot (its map and
     SLAM carry on); the survey's mission, map, report and picture go to ``survey/`` beside the report."""
     from mission.jobs.survey import run_to_end, start_hw_survey, write_survey
 
     check_report(report)
+    store = open_patrol_history(config, history)
     out = report.parent / "survey"
     out.mkdir(parents=True, exist_ok=True)
     if backend is Backend.hw:
@@ -76,10 +88,11 @@ def surveyed_patrol(config, backend: Backend, world: Optional[Path], events: Opt
         from mission.jobs.patrol import start_patrol
 
         return start_patrol(survey_run.robot, survey_run.nav, mission, survey_run.config, config.perception, report,
-                            time.perf_counter, survey_run.close)
+                            time.perf_counter, survey_run.close, history=store)
     from mission.jobs.sim_patrol import start_sim_patrol
 
-    return start_sim_patrol(w, mission, survey_run.config, report, time.perf_counter, script, sim_run=sim_run)
+    return start_sim_patrol(w, mission, survey_run.config, report, time.perf_counter, script, sim_run=sim_run,
+                            history=store)
 
 
 def check_map(mission, saved_map: Optional[Path]) -> None:
@@ -129,6 +142,10 @@ def patrol(
                                              "instead of mapping from the dock; it must cover every pot."),
     survey: bool = typer.Option(False, "--survey", help="Survey the greenhouse first (lupin survey) and patrol the "
                                 "mission it finds; what it wrote goes to survey/ beside the report."),
+    history: Optional[str] = typer.Option(None, "--history", metavar="URL",
+                                          help="Record the patrol in this history (spec/history.md): a SQLite file, "
+                                               "postgresql://user@host/db, or none (default: history.url, "
+                                               "lupin-history.db here)."),
 ) -> None:
     """Run a scripted patrol mission to its end and write the report."""
     from mission.jobs.patrol import run_to_end, start_hw_patrol
@@ -143,7 +160,7 @@ def patrol(
         raise InputError("lupin patrol --survey: the survey writes the mission and maps as it goes; "
                          "give neither --mission nor --map")
     if survey:
-        run = surveyed_patrol(config, backend, world, events, report)
+        run = surveyed_patrol(config, backend, world, events, report, history)
     elif backend is Backend.hw:
         if mission is None or world is not None:
             raise InputError("lupin patrol --backend hw: give --mission (and no --world: the robot patrols its real greenhouse)")
@@ -151,8 +168,9 @@ def patrol(
             raise InputError("lupin patrol --backend hw: --events scripts faults into the sim; it does not drive the robot")
         m = load_mission(mission)
         check_map(m, saved_map)
-        check_report(report)  # every input checked; only now does anything start
-        run = start_hw_patrol(m, config, report, time.perf_counter)
+        check_report(report)
+        store = open_patrol_history(config, history)  # every input checked; only now does anything start
+        run = start_hw_patrol(m, config, report, time.perf_counter, store)
     else:  # the sim path: only here is the simulator loaded
         from mission.jobs.sim_patrol import start_sim_patrol
         from mission.patrol.events_file import load_events
@@ -162,7 +180,8 @@ def patrol(
         check_map(m, saved_map)
         script = [] if events is None else load_events(events, config, w)
         check_report(report)
-        run = start_sim_patrol(w, m, config, report, time.perf_counter, script)
+        store = open_patrol_history(config, history)
+        run = start_sim_patrol(w, m, config, report, time.perf_counter, script, history=store)
     m = run.tree.mission
     if record:
         from mission.record.mcap_file import record_patrol
@@ -209,5 +228,21 @@ def summary(doc: dict, report: Path) -> str:
         lines.append(f"  discovered tag {t['id']} at ({t['x']:.2f}, {t['y']:.2f})")
     for key, why in doc.get("notes", {}).items():
         lines.append(f"  note {key}: {why}")
+    lines += history_lines(doc)
     lines.append(f"report: {report}")
     return "\n".join(lines)
+
+
+def history_lines(doc: dict) -> list[str]:
+    """Where the patrol was recorded, and what changed since the previous patrol of its mission."""
+    h = doc.get("history")
+    if h is None:
+        return []
+    if h.get("patrol") is None:
+        return [f"history: NOT recorded in {h['database']} (see the errors above)"]
+    since = doc.get("changes_since")
+    changes = doc.get("changes", [])
+    errors = f"; {h['write_errors']} write error(s), see above" if h.get("write_errors") else ""
+    head = (f"history: patrol {h['patrol']} in {h['database']}{errors}; " +
+            (f"{len(changes)} change(s) since patrol {since['patrol']}" if since else "the mission's first patrol there"))
+    return [head] + [f"  change {c['kind']} at {c['pot']}: {c['detail']}" for c in changes]

@@ -36,23 +36,29 @@ def serve(
     foxglove: Optional[int] = typer.Option(None, "--foxglove", min=0, max=65535,
                                            help="Also serve the robot live to Foxglove on this WebSocket port (8765 when "
                                                 "given without one; 0: any free port)."),
+    history: Optional[str] = typer.Option(None, "--history", metavar="URL",
+                                          help="Record every patrol in this history (spec/history.md): a SQLite file, "
+                                               "postgresql://user@host/db, or none (default: history.url)."),
 ) -> None:
     """Run the robot runtime as a service that consoles attach to."""
+    from lupin.cli.patrol import open_patrol_history
     from mission.jobs.serve import run_service, start_hw_service
     from mission.link.server import LinkServer, check_endpoint
 
     config = run_config(ctx)
     check_endpoint(listen or config.link.listen, "--listen")
+    if backend is Backend.hw and (world is not None or fast):
+        raise InputError("lupin serve --backend hw: --world and --fast are for the sim")
+    if backend is Backend.sim:
+        world_file = world_or_default(world)  # checked before anything starts
+    store = open_patrol_history(config, history)
     if backend is Backend.hw:
-        if world is not None or fast:
-            raise InputError("lupin serve --backend hw: --world and --fast are for the sim")
-        service = start_hw_service(config, runs, time.perf_counter)
+        service = start_hw_service(config, runs, time.perf_counter, store)
     else:
         from mission.jobs.sim_serve import start_sim_service  # the robot's service never loads the simulator
 
         config = with_overrides(config, {"sim": {"realtime": not fast}})
-        w = world_or_default(world)  # checked before anything starts
-        service = start_sim_service(w, config, runs, time.perf_counter)
+        service = start_sim_service(world_file, config, runs, time.perf_counter, store)
     token = config.link.token or secrets.token_urlsafe(12)
     try:
         server = LinkServer(service, config.link, token, listen)
@@ -62,6 +68,8 @@ def serve(
     logging.getLogger().setLevel(min(logging.getLogger().level, logging.INFO))
     print(f"lupin serve: robot {config.link.robot!r} on {server.endpoint}"
           f"{'' if config.link.token else f'; operator token {token}'}", flush=True)
+    print(f"lupin serve: patrols recorded in {store.shown if store is not None else 'no history (--history none)'}",
+          flush=True)
     on_close = server.close
     if foxglove is not None:
         from mission.record.live import serve_foxglove

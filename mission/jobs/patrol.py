@@ -19,6 +19,8 @@ from py_trees.common import Status
 
 from hw.atomic_file import write_atomic, write_png
 from hw.odometry import Pose2D
+from mission.history.recorder import PatrolRecorder, start_recording
+from mission.history.store import History
 from mission.patrol.climate import ClimateSource, NoClimate
 from mission.patrol.mission_file import Mission
 from mission.patrol.report import PatrolReport
@@ -64,6 +66,8 @@ class PatrolRun:
     """The sim under it, for judging only (truth); None on the robot."""
     events: "EventPlayer | None" = None
     """The events file being played into the sim run, if any."""
+    history: PatrolRecorder | None = None
+    """The patrol being written into the history (``mission.history``); None when it is off."""
 
     @property
     def done(self) -> bool:
@@ -137,9 +141,12 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
                  report_path: Path, wall_now: Callable[[], float], close: Callable[[], None],
                  climate: ClimateSource | None = None,
                  truth_error: Callable[[Pose2D], dict[str, float]] | None = None,
-                 before_mission: Callable[[PatrolRun], None] = lambda run: None) -> PatrolRun:
+                 before_mission: Callable[[PatrolRun], None] = lambda run: None,
+                 history: History | None = None, world: str | None = None) -> PatrolRun:
     """Schedule the tree (and the path trace) on a running robot with navigation;
-    ``before_mission(run)`` schedules what must run before the tree at a shared instant."""
+    ``before_mission(run)`` schedules what must run before the tree at a shared instant.
+    With ``history`` the patrol is recorded there as it goes (``world``: the sim world's name)
+    and the report gains ``changes`` against the previous patrol of the same mission."""
     save_config(config, Path(report_path).parent)
     perception = reading_mission_tags(perception, mission)
     clock = robot.scheduler.clock
@@ -148,7 +155,10 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
                           lambda: robot.base.odometry.distance, truth_error)
     tree = PatrolTree(mission, robot, nav, cameras, report, TagReader(perception.tag), config.patrol)
     report.estop_events = tree.holds.estop_events
-    run = PatrolRun(robot, nav, tree, report, close)
+    recorder = start_recording(history, mission, config.link.robot, world, Path(report_path))
+    if recorder is not None:
+        report.observers.append(recorder)
+    run = PatrolRun(robot, nav, tree, report, close, history=recorder)
     robot.mission_state = run.led_state
 
     def trace(now: float) -> None:
@@ -168,18 +178,19 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
 
 
 def start_hw_patrol(mission: Mission, config: LupinConfig, report_path: Path,
-                    wall_now: Callable[[], float]) -> PatrolRun:
+                    wall_now: Callable[[], float], history: History | None = None) -> PatrolRun:
     """The patrol on the robot: its devices (a missing one is a clear error before anything
     moves), the wall clock, no climate source, nothing to judge against."""
     rt = start_hw_runtime(config)
-    return start_patrol(rt.robot, rt.nav, mission, config, config.perception, report_path, wall_now, rt.close)
+    return start_patrol(rt.robot, rt.nav, mission, config, config.perception, report_path, wall_now, rt.close,
+                        history=history)
 
 
 def run_to_end(run: PatrolRun, on_step: Callable[[PatrolRun], None] = lambda r: None,
                limit: float | None = None) -> dict:
     """Tick until the tree ends, then finish; Ctrl-C, or ``limit`` seconds of runtime clock,
     aborts (the goal cancelled, the report finished ``aborted`` with what was done). The run is
-    closed whatever happens."""
+    closed whatever happens, and what the history has still to write is written."""
     try:
         try:
             while not run.done:
@@ -194,3 +205,5 @@ def run_to_end(run: PatrolRun, on_step: Callable[[PatrolRun], None] = lambda r: 
         return run.finish(run.outcome())
     finally:
         run.close()
+        if run.history is not None:
+            run.history.wait()

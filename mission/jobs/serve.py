@@ -21,6 +21,8 @@ from arm.presets import UnknownPreset
 from hw.errors import InputError
 from hw.interfaces import Twist
 from hw.odometry import Pose2D
+from mission.history.recorder import PatrolRecorder
+from mission.history.store import History
 from mission.jobs.patrol import PatrolRun, start_patrol
 from mission.link.commands import CommandRefused
 from mission.patrol.climate import ClimateSource, NoClimate, TableClimate
@@ -60,6 +62,11 @@ class Service:
     cameras: dict[str, CameraPipeline] = field(default_factory=dict)
     on_run: list[Callable[[PatrolRun | None], None]] = field(default_factory=list)
     """Told of every patrol that starts, and None when it ends (the Foxglove channels follow)."""
+    history: History | None = None
+    """Where every patrol it runs is recorded (``mission.history``); None: nowhere."""
+    world: str | None = None
+    """The sim world's name, for the history; None on the robot."""
+    _writing: list[PatrolRecorder] = field(default_factory=list)
     _count: int = 0
 
     def __post_init__(self) -> None:
@@ -78,6 +85,8 @@ class Service:
     def _end(self, outcome: str, reason: str = "") -> None:
         run, self.run = self.run, None
         self.outcome = run.finish(outcome, reason)["outcome"]
+        if run.history is not None:  # its writer finishes on its own thread; close waits for it
+            self._writing = [r for r in self._writing if r.pending] + [run.history]
         for listener in self.on_run:
             listener(None)
         log.info("patrol %s: %s (report %s)", run.tree.mission.name, self.outcome, run.report.path)
@@ -88,6 +97,10 @@ class Service:
             self._end("aborted", "the service was stopped")
         self.robot.close()
         self.close_backend()
+        for recorder in self._writing:
+            recorder.wait()
+        if self.history is not None:
+            self.history.close()
 
     # --- what an operator can do (mission.link.view.COMMANDS) --------------------------------
     def estop(self, engaged: bool) -> None:
@@ -116,7 +129,7 @@ class Service:
         self._count += 1
         report = self.runs / f"{m.name}-{self._count}" / "report.json"
         self.run = start_patrol(self.robot, self.nav, m, self.config, self.perception, report, self.wall_now,
-                                lambda: None, self.climate, self.truth_error)
+                                lambda: None, self.climate, self.truth_error, history=self.history, world=self.world)
         for listener in self.on_run:
             listener(self.run)
         log.info("patrol %s started (%d pots)", m.name, len(m.pots))
@@ -174,7 +187,8 @@ def run_service(service: Service, stop: threading.Event, on_close: Callable[[], 
         service.close()
 
 
-def start_hw_service(config: LupinConfig, runs: Path, wall_now: Callable[[], float]) -> Service:
+def start_hw_service(config: LupinConfig, runs: Path, wall_now: Callable[[], float],
+                     history: History | None = None) -> Service:
     """The service on the robot's devices (a missing one is a clear error before anything
     moves). There is no world to patrol by default: ``mission_start`` needs a mission."""
     rt = start_hw_runtime(config)
@@ -183,4 +197,4 @@ def start_hw_service(config: LupinConfig, runs: Path, wall_now: Callable[[], flo
         raise CommandRefused("mission_start: the robot has no built-in mission; send one (spec/mission.md)")
 
     return Service(rt.robot, rt.nav, config, config.perception, Path(runs), wall_now, no_default,
-                   close_backend=rt.backend.close)
+                   close_backend=rt.backend.close, history=history)

@@ -12,6 +12,7 @@ from typing import Callable
 from hw.odometry import Pose2D
 from mission.jobs.events import EventPlayer
 from mission.jobs.navigate import NavigateRun, start_navigate
+from mission.history.store import History
 from mission.jobs.patrol import PatrolRun, start_patrol
 from mission.patrol.climate import TableClimate
 from mission.patrol.mission_file import Mission
@@ -32,10 +33,12 @@ def sim_perception(config: LupinConfig) -> PerceptionConfig:
 
 
 def start_sim_patrol(world: World, mission: Mission, config: LupinConfig, report_path: Path,
-                     wall_now: Callable[[], float], events: list = (), sim_run: NavigateRun | None = None) -> PatrolRun:
+                     wall_now: Callable[[], float], events: list = (), sim_run: NavigateRun | None = None,
+                     history: History | None = None) -> PatrolRun:
     """The patrol on the simulated greenhouse: the world's climate, truth for judging, and the
     events file's actions (``mission.jobs.events``) on the runtime clock from the start; on the
-    running sim ``sim_run`` when given (a survey's, patrolling what it found)."""
+    running sim ``sim_run`` when given (a survey's, patrolling what it found); recorded in
+    ``history`` when given, under the world's name."""
     sim_run = sim_run or start_navigate(world, config)
 
     def truth_error(goal: Pose2D) -> dict[str, float]:
@@ -47,4 +50,5 @@ def start_sim_patrol(world: World, mission: Mission, config: LupinConfig, report
         run.events.schedule(list(events), run.report.t0)
 
     return start_patrol(sim_run.robot, sim_run.nav, mission, config, sim_perception(config), report_path, wall_now,
-                        sim_run.close, TableClimate(world.climate_readings()), truth_error, play)
+                        sim_run.close, TableClimate(world.climate_readings()), truth_error, play,
+                        history=history, world=world.name)

@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Callable
 
 from hw.odometry import Pose2D
+from mission.history.store import History
 from mission.jobs.serve import Service
 from mission.jobs.sim_patrol import sim_perception
 from mission.patrol.climate import TableClimate
@@ -21,8 +22,10 @@ from nav.frames import compose, inverse
 from sim.world import World
 
 
-def start_sim_service(world: World, config: LupinConfig, runs: Path, wall_now: Callable[[], float]) -> Service:
-    """The service on the simulated greenhouse: the world's climate, truth for judging pots."""
+def start_sim_service(world: World, config: LupinConfig, runs: Path, wall_now: Callable[[], float],
+                      history: History | None = None) -> Service:
+    """The service on the simulated greenhouse: the world's climate, truth for judging pots;
+    every patrol recorded in ``history`` under the world's name."""
     rt = start_sim_runtime(world, config)
     nav = attach_navigation(rt.robot)
     dock = inverse(Pose2D(world.spawn.x, world.spawn.y, world.spawn.yaw))
@@ -31,5 +34,5 @@ def start_sim_service(world: World, config: LupinConfig, runs: Path, wall_now: C
         return pose_error(compose(dock, rt.sim.truth()), goal)
 
     return Service(rt.robot, nav, config, sim_perception(config), Path(runs), wall_now, lambda: mission_from_world(world),
-                   TableClimate(world.climate_readings()), truth_error, rt.sim.close)
+                   TableClimate(world.climate_readings()), truth_error, rt.sim.close, history=history, world=world.name)
 

@@ -29,7 +29,7 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Protocol
 
 from behaviours.visit import PotVisit
 from hw.atomic_file import write_atomic
@@ -41,6 +41,19 @@ from mission.patrol.tag_sightings import PotEstimate, TagSightings
 from nav.frames import compose, yaw_error
 from perception.camera_pipeline import Frame
 from perception.detections import TagRead
+
+class ReportObserver(Protocol):
+    """What follows a report as it is written (``mission.history.recorder.PatrolRecorder``)."""
+
+    def recorded(self, pot: MissionPot, entry: dict, kinds: list[str]) -> None:
+        """A pot's entry, just recorded, and its anomaly kinds."""
+
+    def sections(self) -> dict:
+        """More top-level keys for the report."""
+
+    def finished(self, doc: dict) -> None:
+        """The final report, just written."""
+
 
 def pose_error(reached: Pose2D, goal: Pose2D) -> dict[str, float]:
     return {"xy": round(math.hypot(reached.x - goal.x, reached.y - goal.y), 4),
@@ -66,6 +79,9 @@ class PatrolReport:
                                        max_distance=config.discovered_max_distance)
         self.estop_events: list[dict] = []
         self.outcome: str | None = None
+        self.observers: list[ReportObserver] = []
+        """Told of each pot as it is recorded and of the end (the patrol history); their
+        ``sections`` are more top-level keys of the report (``changes``)."""
         self._listed_tags = {p.tag for p in mission.pots if p.tag is not None}
 
     # --- pots ----------------------------------------------------------------------------
@@ -130,6 +146,8 @@ class PatrolReport:
         self.pots[pot.id] = entry
         self.anomalies.extend({"kind": k, "pot": pot.id, "detail": d, **extra.get(k, {})} for k, d in anomalies)
         visit.done = True
+        for observer in self.observers:
+            observer.recorded(pot, entry, [k for k, _ in anomalies])
         self.write()
 
     def _save_image(self, name: str, frame: Frame) -> str:
@@ -163,7 +181,10 @@ class PatrolReport:
 
     def write(self, **extra) -> dict:
         """Write the report as it stands (plus ``extra`` top-level keys); returns it."""
-        doc = {**self.document(), **extra}
+        doc = self.document()
+        for observer in self.observers:
+            doc.update(observer.sections())
+        doc.update(extra)
         write_atomic(self.path, json.dumps(doc, indent=2).encode())
         return doc
 
@@ -173,7 +194,10 @@ class PatrolReport:
         self.outcome = outcome
         self.anomalies.extend({"kind": "skipped", "pot": p.id, "detail": f"not visited: the patrol ended {outcome}"}
                               for p in self.mission.pots if p.id not in self.pots)
-        return self.write(**extra)
+        doc = self.write(**extra)
+        for observer in self.observers:
+            observer.finished(doc)
+        return doc
 
 
 def _discovered(e: PotEstimate, plate_offset: float) -> dict:
