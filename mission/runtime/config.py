@@ -20,6 +20,7 @@ from hw.config import HwConfig
 from hw.atomic_file import write_atomic
 from hw.errors import InputError
 from hw.input_file import read_yaml
+from mission.history.config import HistoryConfig
 from mission.link.config import LinkConfig
 from mission.patrol.config import PatrolConfig, SurveyConfig
 from nav.config import NavConfig
@@ -51,6 +52,8 @@ class LupinConfig(BaseModel):
     """`lupin survey`: exploring a greenhouse and finding its pots by their tags."""
     link: LinkConfig = LinkConfig()
     """The operator link (Zenoh): robot name, endpoint, token, telemetry rates."""
+    history: HistoryConfig = HistoryConfig()
+    """The patrol history (spec/history.md): where every patrol is recorded."""
 
 
 def _merge(base: dict, override: Mapping) -> dict:
