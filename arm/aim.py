@@ -17,7 +17,10 @@ nonlinear program in (lift, elbow, wrist), built once with casadi and solved wit
                q inside the windows of ``arm.limits``
 
 A target nothing satisfies is *reported* (``AimResult.ok`` False with the reason), never
-clipped into a pose that looks somewhere else.
+clipped into a pose that looks somewhere else. Three kinds are refused before the solver runs,
+each with its own reason: a target below the floor or inside the robot's body (no bloom can be
+there, although a camera could look at the spot), and one farther from the shoulder than the
+arm and camera could be plus ``max_range`` (a bound: nothing beyond it is reachable).
 """
 from __future__ import annotations
 
@@ -66,11 +69,28 @@ class CameraAim:
         self._solver = ca.nlpsol("camera_aim", "ipopt", {"x": x, "p": p, "f": f, "g": g}, opts)
         self._lbg = [0.0, config.min_range, -1.0]
         self._ubg = [0.0, config.max_range, -math.sin(config.min_look_down)]
+        self.max_reach = max_reach(kinematics, config)
+
+    def refusal(self, t: np.ndarray) -> str:
+        """Why no pose can be asked to look at ``t`` whatever the solver finds ('' if none)."""
+        c = self.config
+        if t[2] < c.floor_z:
+            return f"target z {t[2]:.3f} m is below the floor (z {c.floor_z:g} m in base_link)"
+        if np.all(t >= c.body_min) and np.all(t <= c.body_max):
+            return f"target ({t[0]:.3f}, {t[1]:.3f}, {t[2]:.3f}) m is inside the robot's body"
+        d = float(np.linalg.norm(t - np.asarray(self.k.pan_origin)))
+        if d > self.max_reach:
+            return (f"target is {d:.2f} m from the shoulder, beyond reach (the camera sees at most "
+                    f"{self.max_reach:.2f} m from it)")
+        return ""
 
     def aim(self, target) -> AimResult:
         t = np.asarray(target, dtype=float)
         if t.shape != (3,) or not np.all(np.isfinite(t)):
             return AimResult(False, None, reason=f"target must be three finite numbers, got {target!r}")
+        why = self.refusal(t)
+        if why:
+            return AimResult(False, None, reason=why)
         ox, oy, oz = self.k.pan_origin
         dx, dy = t[0] - ox, t[1] - oy
         R = math.hypot(dx, dy)
@@ -125,11 +145,24 @@ class CameraAim:
         return AimResult(True, q, miss, along)
 
 
+def max_reach(k: KinematicsConfig, config: IkConfig) -> float:
+    """An upper bound of how far from the pan origin a target can be seen: the camera is at
+    most the chain's length away from it (every link straight), plus ``max_range``."""
+    return k.lift_height + k.upper_arm + k.forearm + math.hypot(*k.camera_offset) + config.max_range
+
+
+def bloom_can_be_at(t, config: IkConfig) -> bool:
+    """Above the floor and outside the robot's body: a place a bloom can be."""
+    t = np.asarray(t, dtype=float)
+    return bool(t[2] >= config.floor_z and not (np.all(t >= config.body_min) and np.all(t <= config.body_max)))
+
+
 def sample_reachable_targets(n: int, seed: int, kinematics: KinematicsConfig, config: IkConfig,
                              margin: float = 0.02) -> list[np.ndarray]:
     """Targets spread over the reachable set (for tests and the benchmark): a random pose in
     the windows that looks down far enough, and a point on its optical axis at a random range
-    inside the allowed band (``margin`` inside every bound)."""
+    inside the allowed band (``margin`` inside every bound), where a bloom can be (``margin``
+    above the floor, outside the body)."""
     rng = np.random.default_rng(seed)
     out: list[np.ndarray] = []
     while len(out) < n:
@@ -138,7 +171,10 @@ def sample_reachable_targets(n: int, seed: int, kinematics: KinematicsConfig, co
         if dz > -math.sin(config.min_look_down) - margin:
             continue
         p, d = camera_ray(q, kinematics)
-        out.append(p + rng.uniform(config.min_range + margin, config.max_range - margin) * d)
+        t = p + rng.uniform(config.min_range + margin, config.max_range - margin) * d
+        if t[2] < config.floor_z + margin or not bloom_can_be_at(t, config):
+            continue
+        out.append(t)
     return out
 
 

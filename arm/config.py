@@ -115,6 +115,14 @@ class IkConfig(Strict):
     """A solution whose optical axis misses the target by more than this, m, is a failure."""
     max_iter: int = Field(200, gt=0)
     """Ipopt iteration cap; the small problem converges in a few dozen."""
+    floor_z: float = -0.051
+    """The floor in base_link, m (base_link sits at wheel-axle height, 0.051 m above the floor:
+    robot model README). A target below it is no bloom: refused, never aimed at."""
+    body_min: tuple[float, float, float] = (-0.165, -0.13, -0.051)
+    """Lower corner of the robot's body in base_link, m: the chassis collision envelope
+    (0.33 x 0.26 m, up to 0.135 m above the floor; robot model README) down to the floor."""
+    body_max: tuple[float, float, float] = (0.165, 0.13, 0.084)
+    """Upper corner of the robot's body in base_link, m. A target inside is refused."""
 
 
 class ArmConfig(Strict):

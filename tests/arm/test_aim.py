@@ -50,8 +50,10 @@ def test_a_bloom_near_the_inspect_view_stays_near_inspect(aim):
 
 
 @pytest.mark.parametrize("target, why", [
-    ((2.0, 0.0, 0.2), "misses"),  # 2 m away
-    ((0.3, 0.0, 1.0), "unreachable"),  # above the camera: cannot be seen from above
+    ((2.0, 0.0, 0.2), "beyond reach"),  # 2 m away
+    ((0.3, 0.0, 0.8), "unreachable"),  # above the camera: cannot be seen from above
+    ((0.3, 0.0, -0.1), "below the floor"),  # base_link is 5 cm above the floor
+    ((0.1, 0.05, 0.05), "inside the robot's body"),
     ((-0.5, 0.0, 0.2), "unreachable"),  # behind the robot, over the deck
     ((0.06 + 0.4 * np.cos(np.radians(-88)), 0.4 * np.sin(np.radians(-88)), 0.2), "shoulder_pan window"),
     # bearing -88 deg: outside [-86, 90], and +92 deg (leaning back over the axis) is too
