@@ -7,7 +7,8 @@ object, so it runs the same over the Zenoh link, against an in-process runtime, 
 - ``keys.py``: the key table (teleop speeds, arm presets, cameras);
 - ``messages.py``: what the workers tell the app (a refusal, a snapshot);
 - ``screens/``: the main screen (the layout) and the clear-map question;
-- ``widgets/``: one module per screen area: status bar, map, mission tree and pots, camera, log;
+- ``widgets/``: one module per screen area: status bar, map (and its window: fit, zoom, pan,
+  follow), mission tree, pots, camera, log;
 - ``halfblocks.py``: pictures as '▀' characters (the map and the camera);
 - ``console.tcss``: the stylesheet.
 """

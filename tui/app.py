@@ -136,6 +136,22 @@ class ConsoleApp(App):
     def action_snapshot(self, camera: str) -> None:
         self._snapshot(camera)
 
+    # the view keys: what the console shows, nothing sent
+    def action_zoom(self, steps: int) -> None:
+        self.main.map_panel.zoom(steps)
+
+    def action_pan(self, dx: int, dy: int) -> None:
+        self.main.map_panel.pan(dx, dy)
+
+    def action_follow(self) -> None:
+        self.main.map_panel.toggle_follow()
+
+    def action_fit(self) -> None:
+        self.main.map_panel.fit()
+
+    def action_anomalies(self) -> None:
+        self.main.pots_table.toggle_anomalies()
+
     def action_clear_map(self) -> None:
         def answered(yes: bool | None) -> None:
             if yes:

@@ -1,4 +1,5 @@
-"""The console's keys, in one table (the footer shows them, grouped).
+"""The console's keys, in one table (the footer shows them, grouped, the robot's and the view's on
+lines of their own).
 
 Driving is hold-to-drive on the runtime's ``manual`` source: terminals send no key-up, so every
 press and every auto-repeat of a held key sends one twist, and letting go sends nothing; the
@@ -9,6 +10,11 @@ The drive keys and the e-stop are priority bindings: they work on every screen, 
 question included. ``space`` only ever engages the soft e-stop, however often it is pressed (a
 panicked double tap must not un-stop the robot); releasing is a different, deliberate key,
 ``u``, and releasing restarts nothing: ``r`` resumes (ISO 13850: the reset is a separate act).
+
+The view keys change only what the console shows, never the robot: ``+`` / ``-`` zoom the map
+(``=`` zooms in too, unshifted), ``h j k l`` pan it (west, south, north, east: vi's keys, since
+the arrows drive), ``t`` follows the robot (``f`` is the front camera), ``0`` fits the map
+again, ``a`` shows only the pots with anomalies in the pot table.
 """
 from __future__ import annotations
 
@@ -29,6 +35,8 @@ DRIVE: dict[str, tuple[float, float, float]] = {
 ARM_PRESETS: list[str] = list(PRESETS)[:6]
 """Keys 1..6, in ``arm.presets.PRESETS`` order."""
 CAMERAS = {"f": "front", "w": "wrist"}
+PAN: dict[str, tuple[int, int]] = {"h": (-1, 0), "j": (0, -1), "k": (0, 1), "l": (1, 0)}
+"""Key -> map pan direction (east, north), in quarters of the window."""
 
 _drive = Binding.Group("drive", compact=True)
 _strafe = Binding.Group("strafe", compact=True)
@@ -36,8 +44,10 @@ _turn = Binding.Group("turn")
 _arm = Binding.Group("arm", compact=True)
 _gripper = Binding.Group("gripper")
 _camera = Binding.Group("camera")
+_zoom = Binding.Group("zoom", compact=True)
+_pan = Binding.Group("pan", compact=True)
 
-BINDINGS: list[Binding] = [
+ROBOT_KEYS: list[Binding] = [
     Binding("up", "drive('up')", "forward", priority=True, group=_drive),
     Binding("down", "drive('down')", "back", priority=True, group=_drive),
     Binding("left", "drive('left')", "strafe left", priority=True, group=_strafe),
@@ -56,3 +66,16 @@ BINDINGS: list[Binding] = [
     *[Binding(key, f"snapshot('{camera}')", f"{camera} camera", group=_camera) for key, camera in CAMERAS.items()],
     Binding("ctrl+q", "quit", "quit"),
 ]
+"""What the robot does (and quitting)."""
+VIEW_KEYS: list[Binding] = [
+    Binding("plus,equals_sign", "zoom(1)", "zoom in", key_display="+", group=_zoom),
+    Binding("minus", "zoom(-1)", "zoom out", key_display="-", group=_zoom),
+    *[Binding(key, f"pan({dx}, {dy})", f"pan {key}", group=_pan) for key, (dx, dy) in PAN.items()],
+    Binding("t", "follow", "follow robot"),
+    Binding("0", "fit", "fit map"),
+    Binding("a", "anomalies", "pots with anomalies"),
+]
+"""What the console shows (the map's window, the pot table's filter)."""
+BINDINGS: list[Binding] = ROBOT_KEYS + VIEW_KEYS
+KEY_SECTIONS = [ROBOT_KEYS, VIEW_KEYS]
+"""The footer's lines."""

@@ -108,3 +108,99 @@ def console(view_source: Callable[[], RobotView], steps, commands: Recorder | No
 
     app = asyncio.run(go())
     return rec, app
+
+
+# --- a greenhouse at scale: 200 pots in two bays ----------------------------------------------
+BAY_PITCH, ROW_PITCH, PER_ROW, ROWS = 1.4, 1.0, 10, 10
+"""Two bays of 10 x 10 pots; bay 2 starts 15 m east of bay 1 (a divider wall at x = 15)."""
+
+
+def pot_xy(i: int) -> tuple[float, float]:
+    bay, k = divmod(i, PER_ROW * ROWS)
+    row, col = divmod(k, PER_ROW)
+    return 1.0 + 15.0 * bay + BAY_PITCH * col, 0.5 + ROW_PITCH * row
+
+
+def has_anomaly(i: int) -> bool:
+    return i % 9 == 4
+
+
+def greenhouse_grid(east: float = 31.0) -> GridView:
+    """The SLAM grid of the greenhouse as explored up to ``east`` metres: a 0.05 m grid larger
+    than what is known (unknown all round), walls round x -1 .. 31, y -1 .. 11, a divider at
+    x = 15 with two doorways. The grid grows with ``east`` (its origin stays at -12, -6)."""
+    res, x0, y0 = 0.05, -12.0, -6.0
+    width = int(round((max(east, 20.0) + 12.0 - x0) / res))
+    g = np.full((480, width), -1, np.int8)
+
+    def cells(xa, xb, ya, yb):
+        return slice(int(round((ya - y0) / res)), int(round((yb - y0) / res))), slice(int(round((xa - x0) / res)), int(round((xb - x0) / res)))
+
+    g[cells(-1.0, east, -1.0, 11.0)] = 0
+    for wall in ((-1.0, east, -1.0, -0.95), (-1.0, east, 10.95, 11.0), (-1.0, -0.95, -1.0, 11.0), (15.0, 15.05, -1.0, 11.0)):
+        g[cells(*wall)] = 100
+    for door in ((15.0, 15.05, 2.0, 3.0), (15.0, 15.05, 7.0, 8.0)):
+        g[cells(*door)] = 0
+    if east >= 31.0:
+        g[cells(30.95, 31.0, -1.0, 11.0)] = 100
+    return GridView(g, res, x0, y0)
+
+
+def pot_line(pid: str, status: str, step: int | None) -> list[str]:
+    """A pot's branch as py_trees' unicode tree draws it (``mission.patrol.tree``'s shape); a
+    pot not in progress shows its statuses, the one in progress runs its ``step``-th leaf."""
+    mark = {"inspected": "✓", "failed": "✓", "active": "*"}.get(status, "-")
+
+    def leaf(i: int) -> str:
+        if step is None:
+            return mark
+        return "✓" if i < step else "*" if i == step else "-"
+
+    done = " -- oneshot completed" if mark == "✓" else ""
+    lines = [f"-^- {pid} [{mark}]{done}", f"    {{o}} visit {pid} [{mark}]", f"        {{-}} inspect {pid} [{mark}]",
+             f"            -^- approach {pid} [{leaf(0)}]", f"                -^- approach {pid} (timeout) [{leaf(0)}]",
+             f"                    --> approach {pid} (navigate) [{leaf(0)}]" + (" -- running" if leaf(0) == "*" else "")]
+    for i, name in enumerate(("front camera", "find", "moved", "wrist", "record", "stow arm"), start=1):
+        lines.append(f"            --> {name} {pid} [{leaf(i)}]" + (" -- running" if leaf(i) == "*" else ""))
+    lines.append(f"        --> {pid} failed [-]")
+    return lines
+
+
+def patrol_tree(statuses: list[str], step: int = 0, held: str | None = None) -> str:
+    """A patrol's tree mid-run (the pot ``active`` on its ``step``-th leaf) or, ``held`` (the
+    pause's reason), as py_trees draws it under a hold: everything below the guard stopped."""
+    run = "-" if held else "*"
+    head = ["-^- Lupin patrol [*]", f"    -^- operator pause [*]" + (f" -- {held}" if held else ""),
+            f"        [o] mission [{run}]", f"            {{-}} battery low [{'-' if held else '✕'}]",
+            f"                --> battery low? [{'-' if held else '✕'}]" + ("" if held else " -- failure"),
+            "                --> go home [-]", f"            {{-}} patrol [{run}]",
+            f"                -^- start-up (once) [{'-' if held else '✓'}] -- oneshot completed",
+            f"                    {{-}} start-up [{'-' if held else '✓'}]", f"                /_/ pots and tags [{run}]",
+            f"                    {{-}} pots [{run}]"]
+    body = []
+    for i, status in enumerate(statuses):
+        shown = "-" if held else status
+        body += [" " * 24 + line for line in pot_line(f"P{i + 1:03d}", shown, step if status == "active" and not held else None)]
+    return "\n".join(head + body + [f"                    --> watch tags [{run}]", "                --> finish [-]"])
+
+
+def greenhouse_view(pots: int = 200, done: int = 120) -> RobotView:
+    """A 200-pot patrol in two bays, ``done`` pots finished (every ninth from the fifth with an
+    anomaly), the next one in progress, the robot at its approach."""
+    v = idle_view()
+    v.mux_source, v.nav_state, v.mission_state, v.mission_name = "auto", "following", "running", "two-bay"
+    v.pots = []
+    for i in range(pots):
+        x, y = pot_xy(i)
+        status = "inspected" if i < done else "active" if i == done else "pending"
+        anomalies = ["no_bloom"] if status == "inspected" and has_anomaly(i) else []
+        v.pots.append(PotView(f"P{i + 1:03d}", x, y, status, i + 1 if status == "inspected" else None,
+                              "red" if status == "inspected" else None, 1 if status == "inspected" else 0, anomalies))
+    ax, ay = pot_xy(done)
+    v.pose, v.goal = (ax - 0.5, ay, 0.0), (ax - 0.4, ay, 0.0)
+    v.mission_step = f"approach P{done + 1:03d}"
+    v.grid = greenhouse_grid()
+    v.plan = np.array([[ax - 0.5, ay], [ax - 0.4, ay]])
+    v.tree = patrol_tree([p.status for p in v.pots])
+    v.log = [f"  40.0 I patrol two-bay started ({pots} pots)"]
+    return v

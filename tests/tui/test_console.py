@@ -8,7 +8,7 @@ import threading
 from mission.link.view import RobotView
 from tests.tui.fakes import SIZE, Recorder, console, idle_view, patrolling_view
 from tui.app import make_app
-from tui.widgets.mission_panel import running_line, tree_text
+from tui.widgets.mission_tree import running_line, tree_text
 from tui.widgets.status_bar import status_text
 
 UP = ("teleop", {"vx": 0.2, "vy": 0.0, "wz": 0.0})

@@ -6,13 +6,15 @@ from __future__ import annotations
 from textual.app import ComposeResult
 from textual.containers import Horizontal, Vertical
 from textual.screen import Screen
-from textual.widgets import Footer
 
 from mission.link.view import RobotView
+from tui.keys import KEY_SECTIONS
 from tui.widgets.camera_panel import CameraPanel
+from tui.widgets.key_bar import KeyBar
 from tui.widgets.log_panel import LogPanel
 from tui.widgets.map_panel import MapPanel
-from tui.widgets.mission_panel import MissionTree, PotsTable
+from tui.widgets.mission_tree import MissionTree
+from tui.widgets.pots_table import PotsTable
 from tui.widgets.status_bar import StatusBar
 
 CAMERA_HINT = "no snapshot yet: f = front camera, w = wrist camera"
@@ -36,12 +38,11 @@ class MainScreen(Screen):
         with Horizontal(id="bottom"):
             yield self.camera_panel
             yield self.log_panel
-        yield Footer(show_command_palette=False)  # ctrl+p still opens it (its "keys" lists every binding)
+        yield KeyBar(KEY_SECTIONS, id="keys")  # ctrl+p still opens the palette (its "keys" lists every binding)
 
     def on_mount(self) -> None:
-        for widget, title in ((self.map_panel, "map"), (self.mission_tree, "mission"), (self.pots_table, "pots"),
-                              (self.camera_panel, "camera"), (self.log_panel, "log")):
-            widget.border_title = title
+        for widget, title in ((self.mission_tree, "mission"), (self.camera_panel, "camera"), (self.log_panel, "log")):
+            widget.border_title = title  # the map and the pots title themselves (what they show)
 
     def show(self, view: RobotView) -> None:
         for panel in (self.status_bar, self.map_panel, self.mission_tree, self.pots_table, self.log_panel):

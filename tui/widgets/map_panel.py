@@ -5,7 +5,8 @@ status and the robot with its heading, in half-block characters (two square pixe
 and tested without a terminal. The picture is one RGB array built with numpy:
 
 - the window fits what is known (the explored part of the map, the pots, the robot, the goal),
-  not the whole costmap, much of it unknown;
+  not the whole costmap, much of it unknown, and keeps fitting as the map grows; the operator
+  zooms, pans and follows the robot from there (:mod:`tui.widgets.map_window`);
 - each pixel takes the *maximum* of the grid cells it covers (``np.maximum.reduceat`` along
   both axes), so a wall one cell thick or a lone box survives any zoom; in int8 order that is
   occupied > free > unknown, exactly the priority wanted. (Nearest-cell sampling drops most of
@@ -26,6 +27,7 @@ from textual.widget import Widget
 from mission.link.view import GridView, RobotView
 from nav.grid_geometry import GridGeometry
 from tui.halfblocks import half_block_rows
+from tui.widgets.map_window import Frame, MapWindow
 
 UNKNOWN, FREE, MAYBE, OCCUPIED = (28, 28, 36), (70, 74, 70), (110, 110, 104), (235, 235, 225)
 OCCUPIED_AT, FREE_BELOW = 65, 25
@@ -106,11 +108,13 @@ def _spans(idx: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, int, int]:
 
 class Canvas:
     """Square pixels over a world window: a grid whose cells are the pixels (``geometry``),
-    drawn north up, so (0, 0) is the top-left pixel."""
+    drawn north up, so (0, 0) is the top-left pixel. ``frame``: the window (fitted to what is
+    known unless the operator's ``window`` says otherwise)."""
 
-    def __init__(self, view: RobotView, width: int, height: int):
-        x0, x1, y0, y1 = _bounds(view)
+    def __init__(self, view: RobotView, width: int, height: int, window: MapWindow | None = None):
         self.w, self.h = width, 2 * height
+        self.frame: Frame = (window or MapWindow()).frame(_bounds(view), view.pose[:2], self.w, self.h)
+        x0, x1, y0, y1 = self.frame.bounds
         self.scale = min(self.w / (x1 - x0), self.h / (y1 - y0))  # pixels per metre
         size = 1.0 / self.scale
         self.geometry = GridGeometry(size, (x0 + x1 - self.w * size) / 2, (y0 + y1 - self.h * size) / 2, self.w, self.h)
@@ -154,9 +158,9 @@ class Canvas:
         return cells, on_y[::-1, None] & on_x[None, :]
 
 
-def map_pixels(view: RobotView, width: int, height: int) -> Canvas:
+def map_pixels(view: RobotView, width: int, height: int, window: MapWindow | None = None) -> Canvas:
     """The map as ``width`` x ``2 * height`` RGB pixels (``Canvas.rgb``), and where they are."""
-    cv = Canvas(view, max(width, 4), max(height, 2))
+    cv = Canvas(view, max(width, 4), max(height, 2), window)
     occupied = None
     if view.grid is not None and view.grid.data.size:
         cells, on = cv.pool(view.grid)
@@ -191,10 +195,29 @@ def map_pixels(view: RobotView, width: int, height: int) -> Canvas:
     return cv
 
 
-def render_map(view: RobotView, width: int, height: int) -> list[Strip]:
-    """``width`` x ``height`` characters of the map around everything the view knows."""
-    cv = map_pixels(view, width, height)
+def strips(cv: Canvas) -> list[Strip]:
+    """The canvas as one ``Strip`` per character row."""
     return [Strip(row, cv.w) for row in half_block_rows(cv.rgb)]
+
+
+def render_map(view: RobotView, width: int, height: int, window: MapWindow | None = None) -> list[Strip]:
+    """``width`` x ``height`` characters of the map (around everything the view knows, unless
+    ``window`` says otherwise)."""
+    return strips(map_pixels(view, width, height, window))
+
+
+def title(window: MapWindow, frame: Frame) -> str:
+    """The panel's title: how the window was chosen."""
+    parts = ["map"]
+    if window.follow:
+        parts.append("following the robot")
+    if frame.zoom > 1.0 + 1e-6:
+        parts.append(f"zoom {frame.zoom:.1f}x")
+    if window.centre is not None:
+        parts.append("panned")
+    if len(parts) == 1:
+        parts.append("fitted")
+    return " · ".join(parts)
 
 
 def _inputs(view: RobotView) -> tuple:
@@ -207,7 +230,8 @@ def _inputs(view: RobotView) -> tuple:
 
 
 class MapPanel(Widget):
-    """Fitted to the panel; re-rendered only when the view's map inputs or the size changed
+    """Fitted to the panel unless the operator zoomed, panned or follows the robot (the title
+    says which); re-rendered only when the view's map inputs, the window or the size changed
     (the link updates the same view in place, so cells are compared, not objects)."""
 
     def __init__(self, **kw):
@@ -216,6 +240,9 @@ class MapPanel(Widget):
         self._drawn: tuple | None = None
         self._cells: list[np.ndarray | None] = [None, None]
         self._view: RobotView | None = None
+        self.window = MapWindow()
+        self.frame: Frame | None = None
+        """The window drawn last."""
         self.renders = 0
 
     def on_mount(self) -> None:
@@ -236,14 +263,42 @@ class MapPanel(Widget):
     def show(self, view: RobotView) -> None:
         self._view = view
         size = self.content_size
-        key = (size.width, size.height, _inputs(view))
+        w = self.window
+        key = (size.width, size.height, w.scale, w.centre, w.follow, _inputs(view))
         same_cells = self._same_cells(view)
         if same_cells and key == self._drawn:
             return
         self._drawn = key
-        self._strips = render_map(view, size.width, size.height)
+        cv = map_pixels(view, size.width, size.height, w)
+        self._strips, self.frame = strips(cv), cv.frame
+        self.border_title = title(w, self.frame)
         self.renders += 1
         self.refresh()
+
+    # --- the operator's keys (the app's actions call these) ----------------------------------
+    def _now(self) -> Frame:
+        if self.frame is None:
+            self.show(self._view or RobotView())
+        return self.frame
+
+    def zoom(self, steps: int) -> None:
+        self.window.zoom(steps, self._now())
+        self._redraw()
+
+    def pan(self, dx: int, dy: int) -> None:
+        self.window.pan(dx, dy, self._now())
+        self._redraw()
+
+    def toggle_follow(self) -> None:
+        self.window.toggle_follow(self._now(), max(self.content_size.width, 4))
+        self._redraw()
+
+    def fit(self) -> None:
+        self.window.fit()
+        self._redraw()
+
+    def _redraw(self) -> None:
+        self.show(self._view or RobotView())
 
     def on_resize(self) -> None:
         if self._view is not None:

@@ -1,0 +1,158 @@
+"""The mission tree panel: py_trees' tree with its statuses, folded to the running branch and
+scrolled to keep the running step in view.
+
+A 200-pot patrol's tree is thousands of lines (some fifteen per pot), nearly all of them the
+steps of pots finished or not started, and at the top the battery-low branch, which only runs
+when the pack is flat. Shown whole, the panel opens on that idle branch with the pot in
+progress far below, and Textual lays the whole text out again at every change (hundreds of
+milliseconds a time at that size). So the panel folds: a node's children are shown only while
+the node runs. Every pot keeps its one line (its status mark says done or to do), the pot in
+progress is open down to the running step, the battery-low branch is one line.
+
+While a guard holds the mission (e-stop, pause), py_trees stops the subtree (every status below
+it goes to ``[-]``), which would fold the pot in progress away just when the operator looks for
+it: then the branch that ran last stays open. A tree in which nothing runs and no branch ran
+before (a console started after the end) is shown whole.
+"""
+from __future__ import annotations
+
+import re
+
+from rich.text import Text
+from textual.app import ComposeResult
+from textual.containers import VerticalScroll
+from textual.widgets import Static
+
+from mission.link.view import RobotView
+
+MARKS = ((r"\[\*\]", "bold cyan"), (r"\[✓\]", "green"), (r"\[✕\]", "bold red"))
+"""py_trees' unicode status marks: running, success, failure."""
+NO_TREE = "no mission yet: press m to start one"
+_ANSI = re.compile(r"\x1b\[[0-9;]*[A-Za-z]")
+_LINE = re.compile(r"^(\s*)(.*?) \[(.)\]")
+
+
+def tree_text(tree: str) -> Text:
+    """The tree as the runtime rendered it (py_trees colours it with ANSI codes on a
+    terminal: they are read, not shown raw), its status marks coloured."""
+    text = Text.from_ansi(tree, no_wrap=True, overflow="ellipsis")
+    for pattern, style in MARKS:
+        text.highlight_regex(pattern, style)
+    return text
+
+
+def running_line(tree: str) -> int | None:
+    """The line of the deepest running behaviour (the step the robot is on), if any."""
+    best, depth = None, -1
+    for i, line in enumerate(tree.splitlines()):
+        if "[*]" in line:
+            indent = len(line) - len(line.lstrip())
+            if indent > depth:
+                best, depth = i, indent
+    return best
+
+
+Path = tuple[str, ...]
+
+
+def parse(lines: list[str]) -> list[tuple[int, Path, str]]:
+    """Per line (ANSI codes removed): its indent, the names from the root down to it (the
+    node's identity from one tree to the next) and its status mark ('*', '✓', '✕', '-';
+    '' for a line that is not a node)."""
+    out: list[tuple[int, Path, str]] = []
+    stack: list[tuple[int, str]] = []
+    for line in lines:
+        m = _LINE.match(line)
+        indent = len(line) - len(line.lstrip())
+        name, mark = (m.group(2), m.group(3)) if m else (line.strip(), "")
+        while stack and stack[-1][0] >= indent:
+            stack.pop()
+        stack.append((indent, name))
+        out.append((indent, tuple(n for _, n in stack), mark))
+    return out
+
+
+def fold(nodes: list[tuple[int, Path, str]], open_paths: set[Path]) -> list[int]:
+    """The lines shown: the root, and a node's children only while the node is open."""
+    shown, closed_below = [], None  # indent of the closed node whose subtree is being skipped
+    for i, (indent, path, _) in enumerate(nodes):
+        if closed_below is not None:
+            if indent > closed_below:
+                continue
+            closed_below = None
+        shown.append(i)
+        if path not in open_paths:
+            closed_below = indent
+    return shown
+
+
+def narrow(line: str) -> str:
+    """Half the indent (py_trees gives four spaces a level): a pot's step is ten levels deep
+    and the side panel is some sixty columns wide."""
+    spaces = len(line) - len(line.lstrip(" "))
+    return line[spaces // 2:]
+
+
+class TreeFolder:
+    """Decides which lines of successive trees are shown, remembering the branch that ran
+    last (kept open while a guard holds the mission)."""
+
+    def __init__(self) -> None:
+        self.last_running: set[Path] = set()
+
+    def lines(self, tree: str) -> tuple[list[str], int | None]:
+        """The raw lines to show and, among them, the line to keep in view."""
+        raw = tree.splitlines()
+        nodes = parse([_ANSI.sub("", line) for line in raw])
+        running = {path for _, path, mark in nodes if mark == "*"}
+        deepest = max((i for i, n in enumerate(nodes) if n[2] == "*"), key=lambda i: nodes[i][0], default=None)
+        held = deepest is None or (deepest + 1 < len(nodes) and nodes[deepest + 1][0] > nodes[deepest][0])
+        if not held:
+            self.last_running = running
+        elif not self.last_running:
+            return raw, deepest  # nothing ran yet that we saw: the whole tree
+        open_paths = running | (self.last_running if held else set())
+        shown = fold(nodes, open_paths)
+        keep = [i for i in shown if nodes[i][1] in open_paths or nodes[i][2] == "*"]
+        focus = max(keep, key=lambda i: (nodes[i][0], nodes[i][2] == "*"), default=None)
+        return [raw[i] for i in shown], None if focus is None else shown.index(focus)
+
+
+class MissionTree(VerticalScroll, can_focus=False):  # the arrows drive the robot
+    """The tree folded to its running branch, scrolled to keep the running step in view; the
+    operator may scroll away with the mouse until the step changes."""
+
+    def __init__(self, **kw):
+        super().__init__(**kw)
+        self._tree: str | None = None
+        self._followed: int | None = None
+        self._focus: int | None = None
+        self._folder = TreeFolder()
+        self._body = Static(Text(NO_TREE, "dim"), classes="tree-text")
+        self.shown_lines = 0
+        """Lines of the tree on the panel now."""
+
+    def compose(self) -> ComposeResult:
+        yield self._body
+
+    def show(self, view: RobotView) -> None:
+        if view.tree != self._tree:
+            self._tree = view.tree
+            if not view.tree:
+                self._body.update(Text(NO_TREE, "dim"))
+                self.shown_lines, self._focus = 0, None
+                return
+            lines, self._focus = self._folder.lines(view.tree)
+            self._body.update(tree_text("\n".join(narrow(line) for line in lines)))
+            self.shown_lines = len(lines)
+        if self._focus is not None and self._focus != self._followed:
+            self._followed = self._focus
+            self.call_after_refresh(self._follow, self._focus)
+
+    def _follow(self, line: int) -> None:
+        """Scroll the line to the middle; if the text was not laid out yet (it cannot scroll
+        that far), try again at the next poll."""
+        height = self.scrollable_content_region.height
+        self.scroll_to(y=max(0, line - height // 2), animate=False, immediate=True)
+        if not self.scroll_y <= line < self.scroll_y + max(height, 1):
+            self._followed = None
