@@ -14,7 +14,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from mission.history.records import PestMap, iso
+from mission.history.records import PestMap, as_utc
 from mission.patrol.run_picture import GREY, INK, PAPER, PotMark, canvas
 from nav.map_render import render_map, to_pixel
 from nav.occupancy import OccupancyMap
@@ -76,13 +76,17 @@ def draw_pests(pests: PestMap, occupancy: OccupancyMap | None) -> np.ndarray:
 def _title(pests: PestMap, width: int) -> np.ndarray:
     band = np.full((46, width, 3), 255, np.uint8)
     n = len(pests.patrols)
-    span = f"{iso(pests.patrols[-1].started_at)} .. {iso(pests.patrols[0].started_at)}" if n else "no patrols"
+    span = f"{_utc(pests.patrols[-1].started_at)} .. {_utc(pests.patrols[0].started_at)} UTC" if n else "no patrols"
     with_pest = sum(1 for p in pests.pots if p.pests)
     cv2.putText(band, f"pest pressure, last {n} patrol(s) of {pests.mission or '-'}", (8, 18), FONT, 0.5, INK, 1,
                 cv2.LINE_AA)
     cv2.putText(band, f"{span}; {with_pest} of {len(pests.pots)} pots with a pest", (8, 38), FONT, 0.42, INK, 1,
                 cv2.LINE_AA)
     return band
+
+
+def _utc(t) -> str:
+    return as_utc(t).strftime("%Y-%m-%d %H:%M")
 
 
 def _scale(width: int) -> np.ndarray:

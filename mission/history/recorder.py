@@ -126,6 +126,9 @@ class PatrolRecorder:
     def _loop(self) -> None:
         while True:
             item = self._kicks.get()
+            if isinstance(item, threading.Event):  # drain(): everything before it has been tried
+                item.set()
+                continue
             self._write()
             if item is _STOP:
                 return
@@ -162,6 +165,15 @@ class PatrolRecorder:
         """Rows not written yet (plus one while the end is not)."""
         with self._lock:
             return len(self._rows) + (0 if self._ended or self._end is None else 1)
+
+    def drain(self, timeout: float = 30.0) -> bool:
+        """Wait until every row queued so far has been tried once (written, or failed and kept);
+        False when the writer did not get there within ``timeout`` s or is not running."""
+        if not self._thread.is_alive():
+            return False
+        reached = threading.Event()
+        self._kicks.put(reached)
+        return reached.wait(timeout)
 
     def wait(self, timeout: float = 30.0) -> bool:
         """Let the writer finish (after ``finished``); True when everything was written."""
