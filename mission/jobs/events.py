@@ -74,7 +74,7 @@ class EventPlayer:
         return check
 
     def _apply(self, i: int, e, now: float, t0: float) -> None:
-        log.info("event at t=%.2f: %s", now - t0, e.model_dump(exclude={"at", "when_moving"}))
+        log.info("event at t=%.2f: %s", now, e.model_dump(exclude={"at", "when_moving"}))  # the log's clock
         entry = {"t": round(now - t0, 3), "do": e.do}
         self.applied.append(entry)
         self.fired[i] = now

@@ -11,6 +11,10 @@ the operator says ``resume`` with the e-stop released. A ``resume`` while the e-
 engaged is refused, with the reason. The same ``resume`` ends a ``pause``. An engagement the
 mission's tick did not see (a press shorter than 0.1 s, seen by the base controller's live
 read) still latches: the bridge counts every engagement it sees.
+
+Times: the log says when on the runtime clock, the one every log line is stamped with (a resume
+logged at 90.2 s says ``t=90.2``, not the mission's own 45.4); the report's ``estop_events``
+count from the mission's start, as every time in the report does.
 """
 from __future__ import annotations
 
@@ -55,7 +59,7 @@ class MissionHolds:
 
     def pause(self) -> None:
         if not self.paused:
-            log.info("mission paused by the operator at t=%.1f", self.now() - self.t0)
+            log.info("mission paused by the operator at t=%.1f", self.now())
         self.paused = True
 
     def resume(self) -> str | None:
@@ -64,7 +68,7 @@ class MissionHolds:
             log.warning("resume refused: the e-stop is still engaged")
             return "resume refused: the e-stop is still engaged (release it first)"
         if self.latched or self.paused:
-            log.info("mission resumed by the operator at t=%.1f", self.now() - self.t0)
+            log.info("mission resumed by the operator at t=%.1f", self.now())
         self.latched = self.paused = False
         return None
 

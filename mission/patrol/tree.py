@@ -28,7 +28,10 @@
                                                                 or note what failed
                       record P01
                       stow arm P01                              arm to travel, or note it
-                    P01 failed                                records the pot failed (unreachable)
+                    P01 failed                                records the pot failed (unreachable), or,
+                                                              when a person blocked the way, defers it
+                ...
+                P01 later                                 OneShot: only a deferred pot, once more
                 ...
               watch tags                                tags read en route (discovered_tags)
             finish                                    return home (or note), park arm (or note)
@@ -194,7 +197,7 @@ class PatrolTree:
         if power.state.low and "battery" not in self.notes:
             v = power.reading.voltage if power.reading is not None else float("nan")
             cfg = power.policy.config
-            self.notes["battery"] = (f"power low at t={self.clock.now() - self.report.t0:.1f} s ({v:.2f} V, below "
+            self.notes["battery"] = (f"power low {self.clock.now() - self.report.t0:.1f} s into the patrol ({v:.2f} V, below "
                                      f"{cfg.min_voltage:g} V for {cfg.power_low_time:g} s): patrol aborted, going home")
         return "battery" in self.notes
 
@@ -221,7 +224,8 @@ class PatrolTree:
                       lambda: self.nav.readiness.overdue(self.clock.now()) and self.nav.readiness.status(self.clock.now())),
             self._or_note("arm to travel", self._arm("arm to travel", self._travel), lambda reason: note("arm", reason)),
         ])
-        pots = Sequence("pots", memory=True, children=[self._pot(p) for p in self.order])
+        pots = Sequence("pots", memory=True, children=[self._pot(p) for p in self.order]
+                        + [self._pot(p, later=True) for p in self.order])
         watch = WatchTags("watch tags", self.cameras["front"], self.tag_reader,
                           lambda frame, reads: self.report.saw(reads, self.nav.map_pose()))
         patrol = Sequence("patrol", memory=True, children=[
@@ -233,7 +237,9 @@ class PatrolTree:
         mission = Selector("mission", memory=False, children=[battery, patrol])
         return Hold("Lupin patrol", Hold("operator pause", mission, self.holds.pause_reason), self.holds.estop)
 
-    def _pot(self, pot: MissionPot) -> Behaviour:
+    def _pot(self, pot: MissionPot, later: bool = False) -> Behaviour:
+        """The pot's branch; ``later``: its second go, after the other pots, taken only when the
+        first was deferred (blocked by something in the way, typically a person in the aisle)."""
         c, visit = self.config, self.visits[pot.id]
         cams, clock = self.cameras, self.clock
 
@@ -279,6 +285,10 @@ class PatrolTree:
                 visit.failures["wrist"] = why(look)
 
         def pot_failed() -> None:
+            if not later and "search" not in visit.failures and "blocked" in why(approach):
+                visit.deferred, visit.arrived = True, None
+                visit.failures.clear()
+                return
             if "search" not in visit.failures:
                 visit.failures.setdefault("approach", why(approach))
             if not visit.done:
@@ -291,8 +301,11 @@ class PatrolTree:
         inspect_pot = Sequence(f"inspect {pot.id}", memory=True, children=[
             approach, Do(f"arrived {pot.id}", arrived), front, find, moved, wrist, record, stow])
         failed = Do(f"{pot.id} failed", pot_failed)
-        return OneShot(pot.id, Selector(f"visit {pot.id}", memory=True, children=[inspect_pot, failed]),
-                       OneShotPolicy.ON_COMPLETION)
+        branch = Selector(f"visit {pot.id}", memory=True, children=[inspect_pot, failed])
+        if later:
+            branch = Selector(f"{pot.id} later?", memory=True, children=[
+                Check(f"{pot.id} done", lambda: not visit.deferred or visit.done), branch])
+        return OneShot(f"{pot.id} later" if later else pot.id, branch, OneShotPolicy.ON_COMPLETION)
 
     def _find(self, pot: MissionPot, visit: PotVisit) -> Selector:
         """The pot's own tag placed the pot (or it has none to look for, or another tag is

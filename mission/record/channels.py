@@ -351,7 +351,8 @@ class PatrolChannels:
         for a in report.anomalies[self._logged["anomalies"]:]:
             out.append((LogLevel.Warning, f"anomaly {a['kind']} at {a['pot']}: {a['detail']}"))
         for e in report.estop_events[self._logged["estop"]:]:
-            out.append((LogLevel.Warning, f"e-stop {'engaged' if e.get('engaged') else 'released'} at t={e.get('t')}"))
+            out.append((LogLevel.Warning, f"e-stop {'engaged' if e.get('engaged') else 'released'} "  # the entry is stamped
+                                          f"{e.get('t')} s into the patrol"))  # on the runtime clock: say which t this is
         self._logged = {"pots": len(pots), "anomalies": len(report.anomalies), "estop": len(report.estop_events)}
         for key in sorted(set(tree.notes) - self._notes):
             out.append((LogLevel.Warning, f"note {key}: {tree.notes[key]}"))
