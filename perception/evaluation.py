@@ -34,6 +34,11 @@ class FlowerScore:
     false_bug_rate: Optional[float]
     bug_frames: int
     """Frames with a visible pest (the bug recall's denominator)."""
+    flowering_accuracy: Optional[float] = None
+    """Accuracy on the frames whose truth is a bloom in view (any class but ``none``): the
+    figure the easy negatives cannot lift."""
+    flowering_frames: int = 0
+    """Frames with a bloom in view (its denominator)."""
 
 
 def _ratio(num: int, den: int) -> Optional[float]:
@@ -51,6 +56,8 @@ def score_flowers(truth: Sequence[Optional[str]], predicted: Sequence[str],
             confusion[t][p] += 1
     n = sum(sum(row.values()) for row in confusion.values())
     correct = sum(confusion[c][c] for c in classes)
+    flowering = [c for c in classes if c != "none"]
+    n_flowering = sum(sum(confusion[c].values()) for c in flowering)
     precision = {c: _ratio(confusion[c][c], sum(confusion[t][c] for t in classes)) for c in classes}
     recall = {c: _ratio(confusion[c][c], sum(confusion[c].values())) for c in classes}
     counted = [(t, p) for t, p, cls in zip(count_truth, count_predicted, truth) if t and cls not in (None, "none")]
@@ -60,7 +67,8 @@ def score_flowers(truth: Sequence[Optional[str]], predicted: Sequence[str],
         frames=n, accuracy=_ratio(correct, n) or 0.0, confusion=confusion, precision=precision, recall=recall,
         count_accuracy=_ratio(sum(t == p for t, p in counted), len(counted)),
         bug_recall=_ratio(sum(bugs), len(bugs)), false_bug_rate=_ratio(sum(clean), len(clean)),
-        bug_frames=len(bugs))
+        bug_frames=len(bugs),
+        flowering_accuracy=_ratio(sum(confusion[c][c] for c in flowering), n_flowering), flowering_frames=n_flowering)
 
 
 def rotation_error(rvec: Sequence[float], r_true: np.ndarray) -> float:
