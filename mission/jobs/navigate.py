@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 from hw.odometry import Pose2D
+from mission.jobs.contacts import ContactLog
 from mission.runtime.config import LupinConfig
 from mission.runtime.navigation import attach_navigation, final_map
 from mission.runtime.sim_runtime import SimRuntime, start_sim_runtime
@@ -36,6 +37,9 @@ class NavigateRun(SimRuntime):
     into the world frame, at 10 Hz."""
     bumps: dict[str, float] = field(default_factory=dict)
     """World geoms the chassis touched, with the first time each was touched (s)."""
+    contacts: ContactLog | None = None
+    """Every contact onset (a body touching the chassis again counts again), sampled every
+    physics chunk; what a trial counts bumps from."""
     plans: list = field(default_factory=list)
     """Every distinct global plan the navigator made (map frame), oldest first."""
 
@@ -91,6 +95,8 @@ def start_navigate(world: World, config: LupinConfig) -> NavigateRun:
     sim, robot = rt.sim, rt.robot
     spawn = Pose2D(world.spawn.x, world.spawn.y, world.spawn.yaw)
     run = NavigateRun(sim, robot, attach_navigation(robot), spawn)
+    run.contacts = ContactLog(sim.touching)
+    sim.engine.attach(run.contacts)
 
     def trace(now: float) -> None:
         run.truth_path.append(sim.truth())
