@@ -6,7 +6,9 @@ command on this robot is a 100 ms beat). Each tick, in this order:
 1. read the encoders (apply ``encoder_signs``) and turn the tick delta into wheel speeds,
    ``dticks / ticks_per_rev * 2 pi / dt`` (the first tick only primes the counters), and feed
    them to the wheel odometry (``/mirte_base_controller/odom`` in the seed);
-2. take the twist_mux output, the only path from any velocity source to the wheels;
+2. take the twist_mux output, the only path from any velocity source to the wheels, through
+   the collision monitor (``hw.collision_monitor``: scaled or stopped for what the lidar sees
+   right now, whichever source sent it);
 3. if the e-stop is engaged (read *now*, not the 5 Hz published state) or either stage of the
    seed's base chain (``pid_wheels_controller``, ``mirte_base_controller``) is not active, write
    all-zero duties and reset the PID: the wheels stop on the same tick the press is seen, and an
@@ -26,6 +28,7 @@ from __future__ import annotations
 
 import logging
 import math
+from typing import Protocol
 
 import numpy as np
 
@@ -37,6 +40,10 @@ from hw.mecanum import Mecanum
 from hw.odometry import WheelOdometry
 from hw.pid import Pid
 from hw.twist_mux import TwistMux
+
+class TwistGuard(Protocol):
+    def filter(self, twist: Twist, now: float) -> Twist: ...
+
 
 #: Both stages of the seed's base chain must be active for the wheels to move.
 REQUIRED_CONTROLLERS: tuple[str, ...] = ("pid_wheels_controller", "mirte_base_controller")
@@ -57,6 +64,7 @@ class BaseController:
         estop: EStopBridge,
         controllers: ControllerManager,
         log: logging.Logger | None = None,
+        guard: "TwistGuard | None" = None,
     ):
         self.config = config
         self.wheels = wheels
@@ -64,6 +72,8 @@ class BaseController:
         self.mux = mux
         self.estop = estop
         self.controllers = controllers
+        self.guard = guard
+        """The collision monitor (None: the mux's twist goes to the wheels as it is)."""
         self.log = log if log is not None else logging.getLogger(__name__)
 
         self.mecanum = Mecanum.from_config(config)
@@ -115,6 +125,8 @@ class BaseController:
             self.reference = np.zeros(4)
             duties = np.zeros(4)
         else:
+            if self.guard is not None:
+                twist = self.guard.filter(twist, now)
             self.command = twist
             self.source = source
             self.reference = self._desaturate(self.mecanum.inverse(twist))

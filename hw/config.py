@@ -138,6 +138,64 @@ class ServoBusConfig(Strict):
         return (math.degrees(rad) * 100.0 + calib.home) / self.centideg_per_count
 
 
+class StopZone(Strict):
+    """Points here stop the base: 8 cm ahead of the 0.22 m footprint, 2 cm to its sides. At an
+    approach pose the pot's rim is 0.40 m from the centre, so the last centimetres of a tight
+    approach never trip it."""
+
+    length: float = Field(0.30, gt=0)
+    """From the base centre along the direction of travel, m."""
+    half_width: float = Field(0.24, gt=0)
+    """To either side of the direction of travel, m."""
+
+
+class SlowdownZone(Strict):
+    """Points here cap the speed: 0.43 m ahead of the footprint, narrow enough that the pots
+    beside a 0.8 m aisle (0.40 m from the centre line) do not slow every aisle."""
+
+    length: float = Field(0.65, gt=0)
+    """From the base centre along the direction of travel, m."""
+    half_width: float = Field(0.26, gt=0)
+    """To either side of the direction of travel, m."""
+    speed: float = Field(0.15, gt=0)
+    """Most linear speed with points in this zone, m/s."""
+
+
+class ApproachConfig(Strict):
+    time_before_collision: float = Field(1.2, gt=0)
+    """The time to contact along the commanded twist the monitor keeps, s (Nav2's approach
+    polygon; its example uses 1.2 s): half a second to stop from the robot's top speed, with
+    room for a walker closing in at 1 m/s."""
+    time_step: float = Field(0.1, gt=0)
+    """Step of the footprint carried along the twist, s (Nav2 simulation_time_step 0.1)."""
+
+
+class CollisionMonitorConfig(Strict):
+    """Nav2's collision monitor between the twist_mux and the base controller (hw.collision_monitor).
+    The zones' sizes are checked against the navigation footprint when the config is loaded."""
+
+    enabled: bool = True
+    """Off only for a bench that must see the bare controller."""
+    stop: StopZone = StopZone()
+    """The stop zone (its class says why these sizes)."""
+    slowdown: SlowdownZone = SlowdownZone()
+    """The slowdown zone (its class says why these sizes)."""
+    approach: ApproachConfig = ApproachConfig()
+    """Time-to-collision scaling along the commanded twist."""
+    min_points: int = Field(3, ge=1)
+    """Points needed in a zone before it acts (Nav2 min_points): one stray return is noise."""
+    scan_timeout: float = Field(0.5, gt=0)
+    """A scan older than this stops the linear motion, s (Nav2 source_timeout; five C1 revolutions)."""
+
+    @field_validator("slowdown")
+    @classmethod
+    def _slowdown_contains_stop(cls, v, info):
+        stop = info.data.get("stop")
+        if stop is not None and (v.length < stop.length or v.half_width < stop.half_width):
+            raise ValueError("the slowdown zone must contain the stop zone")
+        return v
+
+
 class HwConfig(Strict):
     """Hardware services: the same in sim and on the robot."""
 
@@ -145,6 +203,8 @@ class HwConfig(Strict):
     """Mecanum base: kinematics, encoders, wheel PID (seed: mirte_base_control.yaml)."""
     mux: MuxConfig = MuxConfig()
     """The twist_mux: the only path from any velocity source to the wheels."""
+    collision_monitor: CollisionMonitorConfig = CollisionMonitorConfig()
+    """The last check between the mux and the wheels, on the raw scan."""
     estop: EStopConfig = EStopConfig()
     """The e-stop bridge: physical button OR operator soft stop."""
     leds: LedConfig = LedConfig()

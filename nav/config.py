@@ -102,6 +102,13 @@ class NavigatorConfig(Strict):
     """A goal holds still (zero twist, the clock of its progress check and deadline stopped)
     while the newest lidar scan is older than this, s: five revolutions of the C1 at 10 Hz.
     Driving on a costmap that no longer sees is how a dropped USB link ends in a pot."""
+    blocked_wait: float = Field(15.0, gt=0)
+    """Seconds a goal waits, its progress check and deadline stopped, while the collision
+    monitor holds the base for something in its way (a person in a 0.8 m aisle, where there is
+    no going round): waiting is what a person expects of a machine, and backing off into
+    someone behind is worse. The planner keeps replanning meanwhile (the person is in the
+    costmap, so another way round is taken where there is one); past this the goal fails
+    ``blocked`` and the patrol comes back to the pot later."""
     lidar_mount: tuple[float, float, float] = (0.115, 0.0, 0.0)
     """Lidar pose in base_link (x, y, yaw): the MIRTE model's lidar post (sim model README)."""
 

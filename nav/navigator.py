@@ -113,6 +113,8 @@ class Sources:
     """Into the twist_mux's ``auto`` source: autonomy never bypasses the mux (seed)."""
     estop: Callable[[], bool]
     """True while the e-stop is engaged."""
+    held: Callable[[], bool] = lambda: False
+    """True while the collision monitor keeps the base from driving where it was told."""
 
 
 class Navigator:
@@ -144,6 +146,8 @@ class Navigator:
         self._checkpoint: tuple[Pose2D, float] | None = None
         self.blind = False
         """True while a goal holds for want of a fresh scan (``scan_timeout``)."""
+        self.held_for = 0.0
+        """Seconds the collision monitor has held the base without a break (``blocked_wait``)."""
 
     # -- the goal API --------------------------------------------------------------------------
 
@@ -163,6 +167,7 @@ class Navigator:
         self._deadline = now + (timeout if timeout is not None else self.config.navigator.default_timeout)
         self._recoveries = self._replans = self._plan_failures = 0
         self._checkpoint = None
+        self.held_for = 0.0
         self.path = None
         self.goal_checker.reset(xy_tolerance)
         self.controller.reset()
@@ -206,6 +211,8 @@ class Navigator:
             self._checkpoint = None
             self.io.publish(ZERO_TWIST, now)
             return
+        if self._waiting(now, dt):
+            return
         if now >= self._deadline:
             self._finish(State.FAILED, f"timeout after {now - self._start:.1f} s", now)
             return
@@ -241,6 +248,23 @@ class Navigator:
             self.smoother.reset()
             self.blind = blind
         return blind
+
+    def _waiting(self, now: float, dt: float) -> bool:
+        """While the collision monitor holds the base, the goal's clocks stop (for at most
+        ``blocked_wait``); True when that wait ran out and the goal failed ``blocked``."""
+        if not self.io.held():
+            self.held_for = 0.0
+            return False
+        wait = self.config.navigator.blocked_wait
+        if self.held_for == 0.0:
+            log.info("something in the way: waiting up to %.0f s", wait)
+        self.held_for += dt
+        if self.held_for > wait:
+            self._finish(State.FAILED, f"blocked: something stood in the way for {wait:g} s", now)
+            return True
+        self._deadline += dt
+        self._checkpoint = None
+        return False
 
     def _progressing(self, pose: Pose2D, now: float) -> bool:
         """Nav2's SimpleProgressChecker: moving ``progress_radius`` from the last checkpoint
@@ -289,6 +313,9 @@ class Navigator:
             vx, vy, wz = self.controller.compute((odom.x, odom.y, odom.yaw), (tw.vx, tw.vy, tw.wz), path,
                                                  (goal.x, goal.y, goal.yaw), self.local_costmap.grid)
         except NoValidControl as exc:
+            if self.io.held():  # someone close: wait for them, never back off into whoever is behind
+                self.io.publish(ZERO_TWIST, now)
+                return
             self._start_recovery(now, str(exc))
             return
         self.io.publish(self.smoother.smooth(Twist(vx, vy, wz), dt), now)

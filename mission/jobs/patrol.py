@@ -22,6 +22,7 @@ from hw.odometry import Pose2D
 from mission.history.recorder import PatrolRecorder, start_recording
 from mission.history.store import History
 from mission.patrol.climate import ClimateSource, NoClimate
+from mission.patrol.encounters import RATE as ENCOUNTER_RATE, Encounters
 from mission.patrol.mission_file import Mission
 from mission.patrol.report import PatrolReport
 from mission.patrol.run_picture import PotMark, contact_sheet, draw_run
@@ -158,6 +159,9 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
     recorder = start_recording(history, mission, config.link.robot, world, Path(report_path))
     if recorder is not None:
         report.observers.append(recorder)
+    encounters = Encounters(lambda: robot.monitor.verdict, nav.map_pose, report.t0)
+    report.observers.append(encounters)
+    robot.scheduler.every("patrol.encounters", ENCOUNTER_RATE, encounters.tick)
     run = PatrolRun(robot, nav, tree, report, close, history=recorder)
     robot.mission_state = run.led_state
 

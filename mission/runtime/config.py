@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 import yaml
-from pydantic import BaseModel, ConfigDict, ValidationError
+from pydantic import BaseModel, ConfigDict, ValidationError, model_validator
 
 from arm.config import ArmConfig
 from hw.config import HwConfig
@@ -54,6 +54,18 @@ class LupinConfig(BaseModel):
     """The operator link (Zenoh): robot name, endpoint, token, telemetry rates."""
     history: HistoryConfig = HistoryConfig()
     """The patrol history (spec/history.md): where every patrol is recorded."""
+
+    @model_validator(mode="after")
+    def _monitor_covers_the_footprint(self) -> "LupinConfig":
+        """A collision-monitor stop zone that does not reach past the footprint would let the
+        body touch what the zone was meant to keep off it."""
+        radius = self.nav.costmap.robot_radius
+        stop = self.hw.collision_monitor.stop
+        for name in ("length", "half_width"):
+            if getattr(stop, name) < radius:
+                raise ValueError(f"hw.collision_monitor.stop.{name} {getattr(stop, name):g} m is inside the footprint "
+                                 f"(nav.costmap.robot_radius {radius:g} m): the stop zone must cover the robot's body")
+        return self
 
 
 def _merge(base: dict, override: Mapping) -> dict:

@@ -44,6 +44,7 @@ def attach_navigation(robot: Robot, localisation: Localisation | None = None) ->
         scan=scan,
         publish=lambda twist, now: robot.mux.publish(AUTO, twist, now),
         estop=robot.estop.engaged,
+        held=lambda: robot.monitor.verdict.holding,
     )
     gcm = global_costmap(cfg.costmap)
 

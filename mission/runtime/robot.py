@@ -12,9 +12,10 @@ arm                   10 Hz      arm HW interface write loop (dead-band re-asser
 power                 2 Hz       power_watcher: percentage, power-low after 20 s below 11.1 V
 ====================  =========  ==============================================
 
-Every velocity source publishes into ``mux``; the base controller reads only the mux, and
-checks the e-stop bridge itself on every tick, so the wheels stop on the very next tick after
-a press even if everything above hangs.
+Every velocity source publishes into ``mux``; the base controller reads only the mux, through
+the collision monitor (the raw scan, every source), and checks the e-stop bridge itself on
+every tick, so the wheels stop on the very next tick after a press even if everything above
+hangs.
 """
 from __future__ import annotations
 
@@ -24,6 +25,7 @@ from typing import Callable
 
 from arm.controller import ArmController
 from hw.base_controller import BaseController
+from hw.collision_monitor import CollisionMonitor
 from hw.controller_manager import ControllerManager
 from hw.estop import EStopBridge
 from hw.interfaces import Hal
@@ -51,6 +53,7 @@ class Robot:
     leds: LedStatus
     arm: ArmController
     power: PowerWatch
+    monitor: CollisionMonitor
     closers: list[Callable[[], None]] = field(default_factory=list)
     """What ``close`` shuts down (worker processes, devices), in order."""
     mission_state: Callable[[], str | None] = lambda: None
@@ -82,8 +85,10 @@ def build_robot(config: LupinConfig, hal: Hal, controllers: ControllerManager | 
     controllers = controllers or ControllerManager(hw.controllers)
     mux = TwistMux(hw.mux)
     estop = EStopBridge(hw.estop, hal.estop_button, log)
-    base = BaseController(hw.base, hal.wheels, hal.encoders, mux, estop, controllers)
+    monitor = CollisionMonitor(hw.collision_monitor, hal.lidar, config.nav.costmap.robot_radius,
+                               config.nav.navigator.lidar_mount, log)
+    base = BaseController(hw.base, hal.wheels, hal.encoders, mux, estop, controllers, guard=monitor)
     leds = LedStatus(hw.leds, hal.leds)
     arm = ArmController(config.arm, hw.servos, hal.servos, controllers, log)
     power = PowerWatch(hw.devices.power, hal.power, log)
-    return Robot(config, hal, Scheduler(hal.clock), controllers, mux, estop, base, leds, arm, power)
+    return Robot(config, hal, Scheduler(hal.clock), controllers, mux, estop, base, leds, arm, power, monitor)

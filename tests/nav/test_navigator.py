@@ -62,8 +62,10 @@ class Rig:
         self.scans = True
         """False: the lidar stops delivering (the last scan ages)."""
         self.last_scan = LidarScan(0.0, np.zeros(1, np.float32), np.full(1, np.inf, np.float32))
+        self.held = False
+        """True: the collision monitor holds the base (someone in the way)."""
         io = Sources(lambda: self.pose, lambda: self.twist, self.scan,
-                     lambda t, now: self.published.append((now, t)), lambda: self.estopped)
+                     lambda t, now: self.published.append((now, t)), lambda: self.estopped, lambda: self.held)
         self.local, self.glob = FakeCostmap(), FakeCostmap()
         self.planner = planner or FakePlanner()
         self.controller = controller or FakeController()
@@ -124,6 +126,40 @@ def test_a_lidar_dropout_holds_the_goal_still_without_spending_its_time():
     assert rig.nav.active and not rig.nav.blind and rig.published[-1][1].vx > 0
     rig.run(30.0, t0=13.55)  # the deadline was pushed by the blind time, not dropped
     assert rig.nav.state is State.FAILED and rig.nav.reason.startswith("timeout")
+
+
+def test_a_person_in_the_way_stops_the_goals_clocks_for_the_bounded_wait_then_it_fails_blocked():
+    """The base never moves while held (the fake odometry stays put): without the wait the goal
+    would fail 'no progress' after 10 s; with it, it waits 15 s, then fails ``blocked``."""
+    rig = Rig()
+    rig.nav.navigate_to(Pose2D(5.0, 0.0, 0.0), 0.0, timeout=12.0)
+    rig.held = True
+    end = rig.run(40.0)
+    wait = NavConfig().navigator.blocked_wait
+    assert rig.nav.state is State.FAILED and rig.nav.reason.startswith("blocked")
+    assert wait <= end <= wait + 0.2
+    assert rig.planner.calls >= wait - 1  # replanning (another way round) all along
+
+
+def test_a_short_wait_for_a_person_costs_the_goal_nothing():
+    rig = Rig()
+    rig.nav.navigate_to(Pose2D(5.0, 0.0, 0.0), 0.0, timeout=12.0)
+    rig.held = True
+    rig.run(8.0)
+    rig.held = False
+    rig.run(17.5, t0=8.05)  # 8 s held: past the 12 s deadline, which moved by 8 s, and no progress failure
+    assert rig.nav.active, rig.nav.reason
+    end = rig.run(25.0, t0=17.55)  # the fake base never moves: the progress window restarted at the release
+    assert rig.nav.state is State.FAILED and rig.nav.reason.startswith("no progress") and 18.0 <= end <= 18.3
+
+
+def test_no_back_off_while_someone_is_close():
+    rig = Rig(controller=FakeController(fail=True))
+    rig.nav.navigate_to(Pose2D(2.0, 0.0, 0.0), 0.0, timeout=60.0)
+    rig.held = True
+    rig.run(10.0)
+    assert rig.nav.active and rig.local.clears == 0
+    assert all(tw == ZERO_TWIST for _, tw in rig.published)
 
 
 def test_timeout_cancel_and_estop_all_zero_the_auto_source():

@@ -1,0 +1,68 @@
+"""Encounters: each time the collision monitor held the base back during a patrol, for the
+report's ``people`` list (where, how long the robot waited and how long it drove slowed).
+
+The monitor does not know a person from a cart or a dropped box, and neither does this: an
+encounter is any stretch of the monitor stopping or slowing the base, closed once it has let
+the base drive freely for ``GAP`` seconds (so a person walking past, stopping it twice in a
+second, is one encounter). In an empty greenhouse the zones are sized so that pots and walls
+do not trip it (hw.collision_monitor), so the list is empty there.
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+from hw.collision_monitor import NONE, STOP, Verdict
+from hw.odometry import Pose2D
+
+GAP = 1.0
+"""Seconds of free driving that end an encounter."""
+
+RATE = 10.0
+"""Checks per second: the base controller's beat, at which the monitor judges."""
+
+
+class Encounters:
+    def __init__(self, verdict: Callable[[], Verdict], pose: Callable[[], Pose2D], t0: float):
+        self.verdict, self.pose, self.t0 = verdict, pose, t0
+        self.done: list[dict] = []
+        self._open: dict | None = None
+        self._last: float | None = None
+        self._clear_since: float | None = None
+
+    def tick(self, now: float) -> None:
+        dt, self._last = (0.0 if self._last is None else now - self._last), now
+        v = self.verdict()
+        if v.action == NONE:
+            if self._open is not None:
+                self._clear_since = self._clear_since if self._clear_since is not None else now
+                if now - self._clear_since >= GAP:
+                    self._close()
+            return
+        self._clear_since = None
+        if self._open is None:
+            p = self.pose()
+            self._open = {"t": round(now - self.t0, 2), "x": round(p.x, 2), "y": round(p.y, 2),
+                          "waited_s": 0.0, "slowed_s": 0.0, "nearest_m": v.nearest}
+        key = "waited_s" if v.action == STOP else "slowed_s"
+        self._open[key] += dt
+        self._open["nearest_m"] = min(self._open["nearest_m"], v.nearest)
+
+    def _close(self) -> None:
+        self.done.append(self._shown(self._open))
+        self._open, self._clear_since = None, None
+
+    @staticmethod
+    def _shown(e: dict) -> dict:
+        return {**e, "waited_s": round(e["waited_s"], 2), "slowed_s": round(e["slowed_s"], 2),
+                "nearest_m": round(e["nearest_m"], 3) if e["nearest_m"] != float("inf") else None}
+
+    # -- the report observer -------------------------------------------------------------------
+    def recorded(self, pot, entry: dict, kinds: list[str]) -> None:
+        pass
+
+    def sections(self) -> dict:
+        """``people``: every encounter so far, the one in progress included."""
+        return {"people": self.done + ([self._shown(self._open)] if self._open is not None else [])}
+
+    def finished(self, doc: dict) -> None:
+        pass
