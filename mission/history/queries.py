@@ -9,10 +9,10 @@ from __future__ import annotations
 
 from collections import defaultdict
 
-from sqlalchemy import Connection, case, func, select
+from sqlalchemy import Connection, and_, case, func, or_, select
 
-from mission.history.changes import patrol_changes
-from mission.history.records import (ChangeSet, Observation, Patrol, PestMap, PestPressure, TimelineEntry, as_utc)
+from mission.history.changes import pot_changes
+from mission.history.records import (Change, ChangeSet, Observation, Patrol, PestMap, PestPressure, TimelineEntry, as_utc)
 from mission.history.schema import observations as O
 from mission.history.schema import patrols as P
 
@@ -65,8 +65,8 @@ def latest_patrols(conn: Connection, mission: str, n: int, before: Patrol | None
 
 def observations(conn: Connection, patrol_id: int) -> list[Observation]:
     """One patrol's rows in the order its pots were recorded."""
-    q = select(O).where(O.c.patrol_id == patrol_id).order_by(O.c.seq)
-    return [Observation.from_row(r) for r in conn.execute(q)]
+    q = select(*(O.c[name] for name in Observation.COLUMNS)).where(O.c.patrol_id == patrol_id).order_by(O.c.seq)
+    return [Observation.from_tuple(r) for r in conn.execute(q)]
 
 
 def pot_timeline(conn: Connection, pot_id: str, mission: str | None = None) -> list[TimelineEntry]:
@@ -94,39 +94,61 @@ def changes(conn: Connection, mission: str | None = None) -> ChangeSet:
     if len(last) == 1:
         return ChangeSet(last[0], None)
     after, before = last
-    prior = {o.pot_id: o for o in observations(conn, before.id)}
-    return ChangeSet(after, before, tuple(patrol_changes(prior, observations(conn, after.id))))
+    return ChangeSet(after, before, tuple(changed(conn, before.id, after.id)))
+
+
+def changed(conn: Connection, before: int, after: int) -> list[Change]:
+    """The changes from patrol ``before`` to patrol ``after``, in ``after``'s order. The database
+    pairs the two patrols' rows by pot and hands back only the pairs where something a change
+    is made of differs (status, pest, colour, blooms); ``mission.history.changes`` then says
+    what changed, so the rules live in one place."""
+    a, b = O.alias("a"), O.alias("b")
+    cols = Observation.COLUMNS
+    q = (select(*(a.c[n] for n in cols), *(b.c[n] for n in cols))
+         .join_from(b, a, and_(a.c.pot_id == b.c.pot_id, a.c.patrol_id == before))
+         .where(b.c.patrol_id == after,
+                or_(*(a.c[n].is_distinct_from(b.c[n]) for n in ("status", "bug", "flower_color", "blooms"))))
+         .order_by(b.c.seq))
+    out: list[Change] = []
+    for r in conn.execute(q):
+        out += pot_changes(Observation.from_tuple(r[:len(cols)]), Observation.from_tuple(r[len(cols):]))
+    return out
 
 
 def pest_map(conn: Connection, last: int, mission: str | None = None) -> PestMap:
     """Each pot's pest pressure over the last ``last`` patrols of ``mission`` (default: the latest
     patrol's): how many of them judged its flower, how many saw a pest, the current streak, and
-    where the pot stood when last seen."""
+    where the pot stood when last seen. Counted by the database (one pass over the patrols'
+    rows, by the primary key); only the pest rows come back for the streaks."""
     mission = mission or latest_mission(conn)
     if mission is None:
         return PestMap(None, ())
     chosen = latest_patrols(conn, mission, last)
     rank = {p.id: k for k, p in enumerate(chosen)}  # 0: the latest
-    q = select(O.c.patrol_id, O.c.pot_id, O.c.bug, O.c.x, O.c.y, O.c.facing, O.c.tag_expected, O.c.tag_read,
-               O.c.seq).where(O.c.patrol_id.in_(list(rank)))
-    seen: dict[str, list] = defaultdict(list)
-    for r in conn.execute(q):
-        seen[r.pot_id].append(r)
+    in_chosen = O.c.patrol_id.in_(list(rank))
+    counts = {r.pot_id: (r.judged, int(r.pests or 0)) for r in conn.execute(
+        select(O.c.pot_id, func.count(O.c.bug).label("judged"),
+               func.sum(case((O.c.bug == True, 1), else_=0)).label("pests"))  # noqa: E712
+        .where(in_chosen).group_by(O.c.pot_id))}
+    pest_at: dict[str, set[int]] = defaultdict(set)
+    for pot_id, pid in conn.execute(select(O.c.pot_id, O.c.patrol_id).where(in_chosen, O.c.bug == True)):  # noqa: E712
+        pest_at[pot_id].add(rank[pid])
+    where_cols = (O.c.pot_id, O.c.x, O.c.y, O.c.facing, O.c.tag_expected)
+    where = {r.pot_id: r for r in conn.execute(select(*where_cols).where(O.c.patrol_id == chosen[0].id)
+                                                .order_by(O.c.seq))} if chosen else {}
+    missing = [p for p in counts if p not in where]
+    for chunk in (missing[i:i + 500] for i in range(0, len(missing), 500)):  # not seen by the latest patrol
+        for r in conn.execute(select(*where_cols, P.c.started_at).join(P, P.c.id == O.c.patrol_id)
+                              .where(in_chosen, O.c.pot_id.in_(chunk)).order_by(P.c.started_at.desc())):
+            where.setdefault(r.pot_id, r)
     pots = []
-    for pot_id, rows in seen.items():
-        rows.sort(key=lambda r: rank[r.patrol_id])
-        judged = [bool(r.bug) for r in rows if r.bug is not None]
-        streak = 0
-        for r in rows:
-            if r.bug is not True:
-                break
+    for pot_id, r in where.items():
+        judged, pests = counts.get(pot_id, (0, 0))
+        streak, hits = 0, pest_at.get(pot_id, ())
+        while streak in hits:
             streak += 1
-        where = next((r for r in rows if r.x is not None), rows[0])
-        tag = next((r.tag_expected for r in rows if r.tag_expected is not None), None)
-        pots.append((rows[0].seq if rank[rows[0].patrol_id] == 0 else 10**9,
-                     PestPressure(pot_id, where.x, where.y, where.facing, tag, len(judged), sum(judged), streak)))
-    pots.sort(key=lambda sp: (sp[0], sp[1].pot_id))
-    return PestMap(mission, tuple(chosen), tuple(p for _, p in pots))
+        pots.append(PestPressure(pot_id, r.x, r.y, r.facing, r.tag_expected, judged, pests, streak))
+    return PestMap(mission, tuple(chosen), tuple(pots))
 
 
 def previous_observations(conn: Connection, mission: str) -> tuple[Patrol | None, dict[str, Observation]]:
