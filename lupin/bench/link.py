@@ -6,8 +6,10 @@ part of the 100 ms control beat so every phase is sampled, press, wait, release)
 counts: ``attempted`` presses, ``stopped`` the ones whose wheels reached zero duty within
 ``STOP_WITHIN_S`` (the times are theirs), ``failed`` the others, each printed on stderr and
 listed in ``failures``; a trial whose robot was not driving when the press was due is counted
-in ``not_driving`` (no press, so no time), never dropped silently. ``link.bytes``: payload
-bytes per second on the link at idle and while a patrol maps the greenhouse. ``link.jitter``: the base controller's tick-to-tick wall interval, p95 deviation
+in ``not_driving`` (no press, so no time), never dropped silently.
+
+``link.bytes``: payload bytes per second on the link at idle and while a patrol maps the
+greenhouse. ``link.jitter``: the base controller's tick-to-tick wall interval, p95 deviation
 from its 100 ms beat, without and with a console attached and reading.
 """
 from __future__ import annotations

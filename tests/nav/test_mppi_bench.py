@@ -22,7 +22,8 @@ def _case(goal_x: float, warm: int, obstacle: bool = False):
     if obstacle:
         grid = draw_disc(grid, 1.2, 1.9, 0.1)  # beside the path: some trajectories pass near it
     goal = (goal_x, 1.5, -math.pi / 2)
-    path = np.column_stack([straight_path(POSE[:2], goal[:2]), np.full(len(straight_path(POSE[:2], goal[:2])), goal[2])])
+    points = straight_path(POSE[:2], goal[:2])
+    path = np.column_stack([points, np.full(len(points), goal[2])])
     ctrl = MppiController(cfg, CostmapsConfig())
     cycle = lambda: ctrl.compute(POSE, V0, path, goal, grid)  # noqa: E731
     for _ in range(warm):
