@@ -137,10 +137,12 @@ def greenhouse_grid(east: float = 31.0) -> GridView:
         return slice(int(round((ya - y0) / res)), int(round((yb - y0) / res))), slice(int(round((xa - x0) / res)), int(round((xb - x0) / res)))
 
     g[cells(-1.0, east, -1.0, 11.0)] = 0
-    for wall in ((-1.0, east, -1.0, -0.95), (-1.0, east, 10.95, 11.0), (-1.0, -0.95, -1.0, 11.0), (15.0, 15.05, -1.0, 11.0)):
+    for wall in ((-1.0, east, -1.0, -0.95), (-1.0, east, 10.95, 11.0), (-1.0, -0.95, -1.0, 11.0)):
         g[cells(*wall)] = 100
-    for door in ((15.0, 15.05, 2.0, 3.0), (15.0, 15.05, 7.0, 8.0)):
-        g[cells(*door)] = 0
+    if east > 15.05:  # the divider, two doorways in it
+        g[cells(15.0, 15.05, -1.0, 11.0)] = 100
+        for door in ((15.0, 15.05, 2.0, 3.0), (15.0, 15.05, 7.0, 8.0)):
+            g[cells(*door)] = 0
     if east >= 31.0:
         g[cells(30.95, 31.0, -1.0, 11.0)] = 100
     return GridView(g, res, x0, y0)

@@ -107,3 +107,18 @@ def test_the_footer_says_what_space_and_u_do():
 def test_every_binding_is_tested_here():
     bound = {key for b in BINDINGS for key in b.key.split(",")} - {"ctrl+q"}
     assert bound == set(EXPECTED) | {"c"}
+
+
+def test_the_footer_shows_every_key_the_view_keys_on_a_line_of_their_own():
+    chips = ["↑↓ drive", "←→ strafe", "q e turn", "space E-STOP", "u release e-stop", "r resume", "m mission",
+             "p pause", "c clear map", "123456 arm", "o g gripper", "f w camera", "^q quit",
+             "+- zoom", "hjkl pan", "t follow robot", "0 fit map", "a pots with anomalies"]
+    for width, lines in ((160, 2), (100, 3)):
+        seen = {}
+        console(patrolling_view, [lambda app: seen.update(text=app.main.query_one("#keys").text.plain)],
+                size=(width, 40))
+        shown = seen["text"].split("\n")
+        assert len(shown) == lines and all(len(line) <= width - 2 for line in shown)  # wrapped, nothing cut off
+        assert shown[-1].startswith("+- zoom")  # the view's keys: the last line, on their own
+        for chip in chips:
+            assert sum(chip in line for line in shown) == 1, chip

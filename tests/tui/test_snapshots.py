@@ -3,7 +3,7 @@ regenerate with ``pytest tests/tui --snapshot-update`` and look at the SVGs befo
 Deterministic: fixed terminal sizes, hand-made views, nothing time-dependent on screen."""
 from __future__ import annotations
 
-from tests.tui.fakes import Recorder, estopped_view, idle_view, patrolling_view
+from tests.tui.fakes import Recorder, estopped_view, greenhouse_view, idle_view, patrolling_view
 from tui.app import make_app
 
 SIZE = (160, 48)
@@ -28,3 +28,17 @@ def test_patrolling_on_a_small_terminal(snap_compare):
 
 def test_clear_map_question(snap_compare):
     assert snap_compare(make_app(patrolling_view, Recorder()), press=["c"], terminal_size=SIZE)
+
+
+def test_patrol_at_scale(snap_compare):
+    """200 pots in two bays, 120 done: the map fitted to the greenhouse, the tree folded to the
+    pot in progress (P121) and the pot table scrolled to it."""
+    assert snap_compare(make_app(greenhouse_view, Recorder()), terminal_size=SIZE)
+
+
+def test_following_the_robot_zoomed_in(snap_compare):
+    assert snap_compare(make_app(greenhouse_view, Recorder()), press=["t", "plus"], terminal_size=SIZE)
+
+
+def test_pots_with_anomalies_only(snap_compare):
+    assert snap_compare(make_app(greenhouse_view, Recorder()), press=["a"], terminal_size=SIZE)

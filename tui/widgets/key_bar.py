@@ -61,6 +61,8 @@ class KeyBar(Static):
     def __init__(self, sections: list[list[Binding]], **kw):
         super().__init__(**kw)
         self.sections = sections
+        self.text = Text()
+        """What it shows."""
 
     def on_mount(self) -> None:
         self._wrap()
@@ -70,4 +72,5 @@ class KeyBar(Static):
 
     def _wrap(self) -> None:
         chipped = [chips(s, self.app.get_key_display) for s in self.sections]
-        self.update(key_text(chipped, self.content_size.width, self.get_component_rich_style("key-bar--key")))
+        self.text = key_text(chipped, self.content_size.width, self.get_component_rich_style("key-bar--key"))
+        self.update(self.text)

@@ -129,8 +129,8 @@ class MissionTree(VerticalScroll, can_focus=False):  # the arrows drive the robo
         self._focus: int | None = None
         self._folder = TreeFolder()
         self._body = Static(Text(NO_TREE, "dim"), classes="tree-text")
-        self.shown_lines = 0
-        """Lines of the tree on the panel now."""
+        self.shown: list[str] = []
+        """The tree's lines on the panel now (folded, narrowed, ANSI codes and all)."""
 
     def compose(self) -> ComposeResult:
         yield self._body
@@ -140,19 +140,22 @@ class MissionTree(VerticalScroll, can_focus=False):  # the arrows drive the robo
             self._tree = view.tree
             if not view.tree:
                 self._body.update(Text(NO_TREE, "dim"))
-                self.shown_lines, self._focus = 0, None
+                self.shown, self._focus = [], None
                 return
             lines, self._focus = self._folder.lines(view.tree)
-            self._body.update(tree_text("\n".join(narrow(line) for line in lines)))
-            self.shown_lines = len(lines)
+            self.shown = [narrow(line) for line in lines]
+            self._body.update(tree_text("\n".join(self.shown)))
         if self._focus is not None and self._focus != self._followed:
             self._followed = self._focus
             self.call_after_refresh(self._follow, self._focus)
+
+    def in_view(self, line: int) -> bool:
+        return self.scroll_y <= line < self.scroll_y + self.scrollable_content_region.height
 
     def _follow(self, line: int) -> None:
         """Scroll the line to the middle; if the text was not laid out yet (it cannot scroll
         that far), try again at the next poll."""
         height = self.scrollable_content_region.height
         self.scroll_to(y=max(0, line - height // 2), animate=False, immediate=True)
-        if not self.scroll_y <= line < self.scroll_y + max(height, 1):
+        if not self.in_view(line):
             self._followed = None

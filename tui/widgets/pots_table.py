@@ -29,7 +29,9 @@ def _cell(column: int, value: str) -> Text:
 
 
 def table_title(shown: int, total: int, anomalies_only: bool) -> str:
-    return f"pots with anomalies: {shown} of {total}" if anomalies_only else f"pots: {total}"
+    if anomalies_only:
+        return f"pots with anomalies: {shown} of {total}"
+    return f"pots: {total}" if total else "pots"
 
 
 class PotsTable(DataTable):
