@@ -15,16 +15,20 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
+from sqlalchemy.exc import SQLAlchemyError
+
 from arm.controller import ArmUnavailable
 from arm.limits import GRIPPER_CLOSED_DEG, GRIPPER_OPEN_DEG
 from arm.presets import UnknownPreset
 from hw.errors import InputError
 from hw.interfaces import Twist
 from hw.odometry import Pose2D
+from mission.history.answers import BadQuery, answer
 from mission.history.recorder import PatrolRecorder
-from mission.history.store import History
+from mission.history.store import History, reason
 from mission.jobs.patrol import PatrolRun, start_patrol
 from mission.link.commands import CommandRefused
+from mission.link.wire import dumps
 from mission.patrol.climate import ClimateSource, NoClimate, TableClimate
 from mission.patrol.mission_file import Mission, parse_mission
 from mission.patrol.report import pose_error
@@ -168,6 +172,18 @@ class Service:
         healed = heal_controllers(self.robot.controllers, names, self.robot.scheduler.clock, budget=0.0)
         if not healed.healed:
             raise CommandRefused(f"heal: {healed.message}")
+
+    def history_query(self, query: str, **args) -> bytes:
+        """A question to the patrol history (``mission.history.answers``) as JSON. Called on the
+        link's thread, not the runtime's: it reads the database only (its own connections)."""
+        if self.history is None:
+            raise CommandRefused("history: this robot records no patrol history (--history none)")
+        try:
+            return dumps(answer(self.history, query, **args))
+        except BadQuery as exc:
+            raise CommandRefused(str(exc)) from None
+        except SQLAlchemyError as exc:
+            raise CommandRefused(f"history: {self.history.shown}: {reason(exc)}") from None
 
     def snapshot(self, camera: str) -> bytes:
         frame = self.cameras[camera].request()

@@ -120,6 +120,17 @@ class LinkClient:
         data, error = self._query("snapshot", {"camera": camera})
         return data if error is None else None
 
+    def history(self, query: str, **args) -> tuple[dict | None, str | None]:
+        """Ask the robot's patrol history (``mission.history.answers``): (answer, None) or
+        (None, why not)."""
+        data, error = self._query("history", {"query": query, **args})
+        if error is not None:
+            return None, error
+        try:
+            return json.loads(data), None
+        except (ValueError, TypeError):
+            return None, "history: the robot's answer is not JSON"
+
     def close(self) -> None:
         self._sub.undeclare()
         self.session.close()

@@ -56,10 +56,18 @@ class SnapshotArgs(_Args):
     camera: Literal["front", "wrist"] = "front"
 
 
+class HistoryArgs(_Args):
+    query: Literal["patrols", "pot", "changes", "pests"]
+    pot: Optional[str] = Field(None, min_length=1, max_length=64)
+    mission: Optional[str] = Field(None, min_length=1, max_length=200)
+    last: int = Field(10, ge=1, le=1000)
+    limit: int = Field(20, ge=1, le=1000)
+
+
 SCHEMAS: dict[str, type[_Args]] = {
     "estop": EStopArgs, "resume": NoArgs, "pause": NoArgs, "mission_start": MissionStartArgs,
     "mission_abort": NoArgs, "teleop": TeleopArgs, "arm_preset": ArmPresetArgs, "gripper": GripperArgs,
-    "clear_map": NoArgs, "heal": NoArgs, "snapshot": SnapshotArgs,
+    "clear_map": NoArgs, "heal": NoArgs, "snapshot": SnapshotArgs, "history": HistoryArgs,
 }
 MAX_PAYLOAD = 64 * 1024
 """Bytes: a mission of a few hundred pots fits; anything bigger is not a command."""

@@ -6,7 +6,8 @@ robot's state is only ever touched by the loop that owns it; the Zenoh thread wa
 ``link.command_timeout``) for the answer and replies, the loop never waits for anyone. One
 exception, on purpose: engaging the soft e-stop is applied at once on the Zenoh thread (one
 attribute write that the base controller reads on its next tick), so a stop does not also
-wait for the queue's beat.
+wait for the queue's beat. And one read: a ``history`` question is answered on the Zenoh thread
+from the database (``mission.history.answers``), never queued onto the robot's loop.
 """
 from __future__ import annotations
 
@@ -100,6 +101,12 @@ class LinkServer:
         if name == "estop" and args.engaged:
             self.service.estop(True)  # at once: see the module docstring
             query.reply(query.key_expr, dumps({"ok": True}))
+            return
+        if name == "history":  # a read of the database, answered here: the control loop never waits on it
+            try:
+                query.reply(query.key_expr, self.service.history_query(**args.model_dump(exclude={"token"})))
+            except CommandRefused as exc:
+                query.reply_err(dumps({"error": str(exc)}))
             return
         pending = _Pending(name, args)
         self._inbox.put(pending)

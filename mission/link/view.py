@@ -29,6 +29,7 @@ COMMANDS: dict[str, str] = {
     "clear_map": "",
     "heal": "",
     "snapshot": "camera: front | wrist -> JPEG bytes",
+    "history": "query: patrols | pot | changes | pests, pot, mission, last, limit -> JSON (mission.history.answers)",
 }
 
 

@@ -1,0 +1,73 @@
+"""The history over the link: the answers ``lupin serve`` gives a console (the same shapes as
+``lupin history --json``), and a console asking a running sim service (slow)."""
+from __future__ import annotations
+
+import threading
+import time
+from datetime import timedelta
+
+import pytest
+
+from mission.history.answers import BadQuery, answer
+from mission.link.commands import CommandRefused, parse_command
+
+from .conftest import T0, add_patrol, obs
+
+
+def test_each_question_answered_as_data(sqlite_history):
+    h = sqlite_history
+    add_patrol(h, [obs("P01"), obs("P02")], started=T0)
+    add_patrol(h, [obs("P01", bug=True), obs("P02")], started=T0 + timedelta(hours=6))
+    assert [p["id"] for p in answer(h, "patrols")["patrols"]] == [2, 1]
+    assert [p["id"] for p in answer(h, "patrols", limit=1)["patrols"]] == [2]
+    assert [e["bug"] for e in answer(h, "pot", pot="P01")["timeline"]] == [False, True]
+    assert [(c["pot"], c["kind"]) for c in answer(h, "changes")["changes"]] == [("P01", "pest_new")]
+    pests = answer(h, "pests", last=5)
+    assert pests["patrols"] == [2, 1] and {p["pot_id"]: p["streak"] for p in pests["pots"]} == {"P01": 1, "P02": 0}
+    with pytest.raises(BadQuery, match="name the pot"):
+        answer(h, "pot")
+    with pytest.raises(BadQuery, match="unknown query"):
+        answer(h, "weather")
+
+
+def test_the_link_checks_a_history_question_like_any_command():
+    args = parse_command("history", b'{"query": "pot", "pot": "P01", "token": "t"}', "t")
+    assert (args.query, args.pot, args.last) == ("pot", "P01", 10)
+    for payload, words in ((b'{"query": "weather", "token": "t"}', "query"), (b'{"query": "pests", "last": 0, '
+                                                                               b'"token": "t"}', "last"),
+                           (b'{"query": "patrols"}', "operator token")):
+        with pytest.raises(CommandRefused, match=words):
+            parse_command("history", payload, "t")
+
+
+@pytest.mark.slow
+def test_a_console_reads_the_history_of_a_running_service(tmp_path, sqlite_history):
+    from mission.jobs.serve import run_service
+    from mission.jobs.sim_serve import start_sim_service
+    from mission.link.client import LinkClient
+    from mission.link.server import LinkServer, free_endpoint
+    from mission.runtime.config import LupinConfig
+    from sim.world import load_default_world
+
+    add_patrol(sqlite_history, [obs("P01"), obs("P02")], started=T0)
+    add_patrol(sqlite_history, [obs("P01", bug=True), obs("P02", blooms=4)], started=T0 + timedelta(hours=6))
+    service = start_sim_service(load_default_world(), LupinConfig(), tmp_path / "runs", time.perf_counter,
+                                history=sqlite_history)
+    endpoint = free_endpoint()
+    server = LinkServer(service, LupinConfig().link, "tok", endpoint)
+    stop = threading.Event()
+    thread = threading.Thread(target=run_service, args=(service, stop, server.close), daemon=True)
+    thread.start()
+    c = LinkClient(endpoint, "mirte", "tok", timeout=10.0)
+    try:
+        got, error = c.history("changes")
+        assert error is None and [(x["pot"], x["kind"]) for x in got["changes"]] == [("P01", "pest_new"),
+                                                                                   ("P02", "blooms")]
+        got, error = c.history("pot", pot="P01")
+        assert error is None and [e["bug"] for e in got["timeline"]] == [False, True]
+        got, error = c.history("pot")
+        assert got is None and "name the pot" in error
+    finally:
+        c.close()
+        stop.set()
+        thread.join(30)
