@@ -161,11 +161,15 @@ def previous_observations(conn: Connection, mission: str) -> tuple[Patrol | None
 
 
 def pots_known(conn: Connection, mission: str | None = None, limit: int = 20) -> list[str]:
-    """Some pot ids the history knows (for a message naming what exists)."""
-    q = select(O.c.pot_id).distinct().order_by(O.c.pot_id).limit(limit)
+    """Some pot ids the history knows, for a message naming what exists: those of the latest
+    patrol (of ``mission``), by the primary key, not a scan of every row."""
+    latest = select(P.c.id).order_by(*NEWEST_FIRST).limit(1)
     if mission is not None:
-        q = q.join(P, P.c.id == O.c.patrol_id).where(P.c.mission == mission)
-    return list(conn.execute(q).scalars())
+        latest = latest.where(P.c.mission == mission)
+    pid = conn.execute(latest).scalar()
+    if pid is None:
+        return []
+    return list(conn.execute(select(O.c.pot_id).where(O.c.patrol_id == pid).order_by(O.c.pot_id).limit(limit)).scalars())
 
 
 def count(conn: Connection) -> tuple[int, int]:

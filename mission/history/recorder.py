@@ -175,15 +175,16 @@ class PatrolRecorder:
         self._kicks.put(reached)
         return reached.wait(timeout)
 
-    def wait(self, timeout: float = 30.0) -> bool:
-        """Let the writer finish (after ``finished``); True when everything was written."""
+    def wait(self, timeout: float = 30.0, retry: bool = True) -> bool:
+        """Let the writer finish (after ``finished``); True when everything was written. With
+        ``retry``, rows its last attempt failed on are tried once more on this thread."""
         if self._thread.is_alive():
             self._thread.join(timeout)
         if self._thread.is_alive():
             log.error("history %s: %d row(s) of patrol %s still unwritten after %g s", self.history.shown,
                       self.pending, self.patrol_id, timeout)
             return False
-        if self.patrol_id is not None and self.pending:
+        if retry and self.patrol_id is not None and self.pending:
             self._write()  # one last try on this thread: the writer's last attempt failed
         return self.patrol_id is not None and not self.pending
 

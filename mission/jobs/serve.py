@@ -130,6 +130,8 @@ class Service:
             m = self.default_mission() if mission is None else parse_mission(mission, "mission")
         except InputError as exc:
             raise CommandRefused(f"mission_start: {exc}") from None
+        for recorder in self._writing:  # the last patrol's rows are in before this one compares with them
+            recorder.wait(2.0, retry=False)
         self._count += 1
         report = self.runs / f"{m.name}-{self._count}" / "report.json"
         self.run = start_patrol(self.robot, self.nav, m, self.config, self.perception, report, self.wall_now,

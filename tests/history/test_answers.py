@@ -1,7 +1,9 @@
 """The history over the link: the answers ``lupin serve`` gives a console (the same shapes as
-``lupin history --json``), and a console asking a running sim service (slow)."""
+``lupin history --json``), and a console asking a running sim service, which records the patrol
+it is sent (slow)."""
 from __future__ import annotations
 
+import json
 import threading
 import time
 from datetime import timedelta
@@ -46,8 +48,10 @@ def test_a_console_reads_the_history_of_a_running_service(tmp_path, sqlite_histo
     from mission.jobs.sim_serve import start_sim_service
     from mission.link.client import LinkClient
     from mission.link.server import LinkServer, free_endpoint
+    from mission.patrol.mission_file import mission_from_world
     from mission.runtime.config import LupinConfig
     from sim.world import load_default_world
+    from tests.link.sim_service import wait_for
 
     add_patrol(sqlite_history, [obs("P01"), obs("P02")], started=T0)
     add_patrol(sqlite_history, [obs("P01", bug=True), obs("P02", blooms=4)], started=T0 + timedelta(hours=6))
@@ -67,6 +71,17 @@ def test_a_console_reads_the_history_of_a_running_service(tmp_path, sqlite_histo
         assert error is None and [e["bug"] for e in got["timeline"]] == [False, True]
         got, error = c.history("pot")
         assert got is None and "name the pot" in error
+        # serve records every patrol it runs
+        one = mission_from_world(load_default_world()).model_copy(update={"name": "served"})
+        one = one.model_copy(update={"pots": one.pots[:1]})
+        assert c.send("mission_start", mission=json.loads(json.dumps(one.model_dump()))) is None
+        assert wait_for(lambda: service.outcome != "", 300), "the served patrol never ended"
+        assert wait_for(lambda: all(not r.pending for r in service._writing), 30)
+        got, error = c.history("patrols", mission="served")
+        assert error is None and len(got["patrols"]) == 1
+        served = got["patrols"][0]
+        assert served["outcome"] == service.outcome and served["observed"] == 1 and served["ended_at"] is not None
+        assert served["report_path"].endswith("report.json") and str(tmp_path / "runs") in served["report_path"]
     finally:
         c.close()
         stop.set()

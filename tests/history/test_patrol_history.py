@@ -93,3 +93,30 @@ def test_serve_refuses_a_history_it_cannot_open_before_it_starts(tmp_path, capsy
     assert "--history" in err and "does not exist" in err and not (tmp_path / "runs").exists()
 
 
+
+
+@pytest.mark.slow
+def test_a_rescout_mission_from_a_sim_patrol_patrols_like_any_mission(tmp_path, capsys):
+    """Patrol P02..P04 (P04 has the pest), re-scout within 1 m (P04 and P03, not P02 2 m away),
+    then patrol the re-scouting mission: it loads, runs and is recorded like any other."""
+    m = mission_from_world(load_default_world())
+    m = m.model_copy(update={"pots": [p for p in m.pots if p.id in ("P02", "P03", "P04")]})
+    (tmp_path / "m.yaml").write_text(dump_mission(m))
+    db = str(tmp_path / "h.db")
+    main(["patrol", "--mission", str(tmp_path / "m.yaml"), "--report", str(tmp_path / "a" / "report.json"),
+          "--history", db])
+    first = json.loads((tmp_path / "a" / "report.json").read_text())
+    assert next(p for p in first["pots"] if p["id"] == "P04")["flower"]["bug"] is True
+    capsys.readouterr()
+    assert main(["mission", "rescout", "--history", db, "--last", "1", "--radius", "1.0",
+                 "-o", str(tmp_path / "r.yaml")]) == 0
+    code = main(["patrol", "--mission", str(tmp_path / "r.yaml"), "--report", str(tmp_path / "b" / "report.json"),
+                 "--history", db])
+    second = json.loads((tmp_path / "b" / "report.json").read_text())
+    assert second["mission"] == f"{m.name}-rescout" and {p["id"] for p in second["pots"]} == {"P03", "P04"}
+    assert code == (0 if second["outcome"] == "completed" else 1)
+    assert next(p for p in second["pots"] if p["id"] == "P04")["status"] == "inspected"
+    h = open_history(db, create=False)
+    latest = h.patrols()[0]
+    assert latest.mission == f"{m.name}-rescout" and latest.observed == 2 and latest.outcome == second["outcome"]
+    h.close()
