@@ -8,6 +8,8 @@ one-line reason it gave (or that nobody answered).
 """
 from __future__ import annotations
 
+import math
+
 import json
 import threading
 import time
@@ -72,6 +74,10 @@ class LinkClient:
         m = json.loads(data)
         if topic == "state":
             v.t, v.pose, v.velocity, v.mux_source = m["t"], tuple(m["pose"]), tuple(m["velocity"]), m["mux"]
+            monitor = m.get("monitor") or {}
+            v.monitor_action = monitor.get("action", "none")
+            nearest = monitor.get("nearest")
+            v.monitor_nearest = float(nearest) if isinstance(nearest, (int, float)) else math.inf
             v.estop_engaged, v.estop_latched = m["estop"]["engaged"], m["estop"]["latched"]
             b = m["battery"]
             v.battery_voltage = b["voltage"] if b["voltage"] is not None else float("nan")

@@ -9,6 +9,8 @@ Every field is plain data (JSON on the wire), map frame, SI units, radians.
 """
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
@@ -76,6 +78,10 @@ class RobotView:
     pose: tuple[float, float, float] = (0.0, 0.0, 0.0)
     velocity: tuple[float, float, float] = (0.0, 0.0, 0.0)
     mux_source: str = "idle"
+    monitor_action: str = "none"
+    """The collision monitor's last verdict: none, slowdown, approach, stop or blind."""
+    monitor_nearest: float = math.inf
+    """Its nearest point in the direction of travel, m."""
     estop_engaged: bool = False
     estop_latched: bool = False
     battery_voltage: float = float("nan")

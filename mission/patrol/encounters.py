@@ -1,5 +1,7 @@
 """Encounters: each time the collision monitor held the base back during a patrol, for the
-report's ``people`` list (where, how long the robot waited and how long it drove slowed).
+report's ``people`` list (where, how long the robot waited and how long it drove slowed, and
+``lost_s``: the time the withheld share of the commanded speed amounts to, the integral of
+``1 - scale``).
 
 The monitor does not know a person from a cart or a dropped box, and neither does this: an
 encounter is any stretch of the monitor stopping or slowing the base, closed once it has let
@@ -42,9 +44,10 @@ class Encounters:
         if self._open is None:
             p = self.pose()
             self._open = {"t": round(now - self.t0, 2), "x": round(p.x, 2), "y": round(p.y, 2),
-                          "waited_s": 0.0, "slowed_s": 0.0, "nearest_m": v.nearest}
+                          "waited_s": 0.0, "slowed_s": 0.0, "lost_s": 0.0, "nearest_m": v.nearest}
         key = "waited_s" if v.action == STOP else "slowed_s"
         self._open[key] += dt
+        self._open["lost_s"] += dt * (1.0 - v.scale)  # the share of the commanded speed withheld
         self._open["nearest_m"] = min(self._open["nearest_m"], v.nearest)
 
     def _close(self) -> None:
@@ -54,6 +57,7 @@ class Encounters:
     @staticmethod
     def _shown(e: dict) -> dict:
         return {**e, "waited_s": round(e["waited_s"], 2), "slowed_s": round(e["slowed_s"], 2),
+                "lost_s": round(e["lost_s"], 2),
                 "nearest_m": round(e["nearest_m"], 3) if e["nearest_m"] != float("inf") else None}
 
     # -- the report observer -------------------------------------------------------------------

@@ -6,12 +6,14 @@ Times in messages are seconds from the mission's start, as in the scenario file.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
 from mission.scenario.effects import KINDS, EventEffect
 from mission.scenario.judge import Press
-from mission.scenario.scenario_file import EffectsExpect, EStopExpect, Expect, PotsExpect
+from mission.jobs.people_log import PeopleLog
+from mission.scenario.scenario_file import EffectsExpect, EStopExpect, Expect, PeopleExpect, PotsExpect
 
 
 @dataclass
@@ -39,6 +41,8 @@ class Ending:
     t0: float
     """The mission's start, runtime time: the zero of the scenario's times."""
     directory: Path
+    people: PeopleLog | None = None
+    """Clearance and contacts with the walkers, ground truth (worlds with walkers)."""
 
 
 def expectations(x: Expect, e: Ending) -> list[Check]:
@@ -71,6 +75,8 @@ def expectations(x: Expect, e: Ending) -> list[Check]:
         checks += estop(x.estop, e.presses, e.t0)
     if x.effects is not None:
         checks += effects(x.effects, e.events, e.t0)
+    if x.people is not None:
+        checks += people(x.people, e.people, e.t0)
     for name in x.report_files:
         present = (e.directory / name).is_file()
         checks.append(Check(f"report_files: {name}", present, f"{name} beside the report", "present" if present else "missing"))
@@ -115,6 +121,21 @@ def _pots(x: PotsExpect, doc: dict) -> list[Check]:
         others = {s: [i for i, v in status.items() if v == s] for s in sorted(set(status.values()))}
         actual = "; ".join(f"{s}: {', '.join(ids)}" for s, ids in others.items())
         out.append(Check(f"pots.{want}", ok, expected, actual))
+    return out
+
+
+def people(x: PeopleExpect, log: PeopleLog, t0: float) -> list[Check]:
+    out = []
+    if x.min_clearance is not None:
+        worst = min(log.min_clearance, key=log.min_clearance.get)
+        t, rx, ry = log.close_at.get(worst, (t0, math.nan, math.nan))
+        out.append(Check("people.min_clearance", log.clearance >= x.min_clearance, f">= {x.min_clearance:g} m to every walker",
+                         f"{log.clearance:.3f} m (walker {worst}, at {t - t0:.1f} s, robot at ({rx:.2f}, {ry:.2f}))"))
+    if x.contacts is not None:
+        onsets = log.contacts.onsets
+        shown = ", ".join(f"{name} at {t - t0:.1f} s" for t, name in onsets[:5]) or "none"
+        out.append(Check("people.contacts", len(onsets) <= x.contacts, f"<= {x.contacts} contact(s)",
+                         f"{len(onsets)} ({shown})"))
     return out
 
 

@@ -22,6 +22,7 @@ from mission.jobs.sim_patrol import start_sim_patrol
 from mission.scenario.checks import Check, Ending, expectations
 from mission.scenario.effects import EventEffect, event_effects
 from mission.scenario.judge import Press, estop_figures
+from mission.jobs.people_log import PeopleLog
 from mission.scenario.motion_log import MotionLog
 from mission.scenario.scenario_file import Scenario
 
@@ -41,6 +42,8 @@ class ScenarioResult:
     presses: list[Press] = field(default_factory=list)
     events: list[EventEffect] = field(default_factory=list)
     t0: float = 0.0
+    people: dict | None = None
+    """Clearance and contacts with the walkers (worlds with walkers)."""
 
     @property
     def passed(self) -> bool:
@@ -55,6 +58,7 @@ class ScenarioResult:
                        "distance_after_m": round(p.distance_after, 4), "still_after_release": p.still_after_release}
                       for p in self.presses],
             "events": [v.as_json(self.t0) for v in self.events],
+            **({"people": self.people} if self.people is not None else {}),
         }
 
 
@@ -63,14 +67,16 @@ def run_scenario(scenario: Scenario, directory: Path, wall_now: Callable[[], flo
     run = start_sim_patrol(scenario.world, scenario.mission, scenario.config, Path(directory) / "report.json", wall_now,
                            scenario.events)
     log = MotionLog(run.sim.sim, run.robot.base, run.nav.localisation).attach()
+    people = PeopleLog(run.sim.sim).attach()
     doc = run_to_end(run, limit=scenario.expect.max_sim_time)
     end, t0, fired = run.robot.scheduler.clock.now(), run.report.t0, run.events.fired
     presses = estop_figures(log, scenario.events, fired, end)
     events = event_effects(log, scenario.events, fired, end, scenario.expect.effects)
     ending = Ending(doc, doc.get("reason", "").startswith("time limit"), _home_error(run), _arm_preset(run), presses,
-                    events, t0, Path(directory))
+                    events, t0, Path(directory), people)
     return ScenarioResult(scenario.name, str(scenario.path), expectations(scenario.expect, ending), doc["sim_time_s"],
-                          wall_now() - wall0, str(Path(directory) / "report.json"), presses, events, t0)
+                          wall_now() - wall0, str(Path(directory) / "report.json"), presses, events, t0,
+                          people.as_json() if run.sim.sim.world.walkers else None)
 
 
 def _home_error(run: PatrolRun) -> float:

@@ -103,6 +103,14 @@ class TeleopEffect(StrictEntry):
     and rad/s)."""
 
 
+class PeopleExpect(StrictEntry):
+    min_clearance: Optional[float] = Field(None, ge=0)
+    """Least distance between the robot's body and any walker's over the whole run, m (ground
+    truth; the footprint circle and half the walker's width)."""
+    contacts: Optional[int] = Field(None, ge=0)
+    """Most robot-walker contacts allowed (usually 0)."""
+
+
 class EffectsExpect(StrictEntry):
     """Each key judges every event of its kind: the event must have done what it is for."""
 
@@ -128,6 +136,8 @@ class Expect(StrictEntry):
     """The effect each event of the named kinds must show (``mission.scenario.effects``)."""
     report_files: list[str] = []
     """Files that must exist beside the report."""
+    people: Optional[PeopleExpect] = None
+    """Clearance and contacts with the world's walkers (spec/world.md)."""
 
     @field_validator("arm")
     @classmethod
@@ -191,6 +201,8 @@ def parse_scenario(data: Any, path: Path, base_config: LupinConfig) -> Scenario:
     world = load_default_world() if spec.world == "default" else load_world(_relative(path, spec.world))
     mission = mission_from_world(world) if spec.mission == "from-world" else load_mission(_relative(path, spec.mission))
     events = parse_events(spec.events, source, config, world)
+    if spec.expect.people is not None and not world.walkers:
+        raise InputError(f"{source}: expect: field 'people': the world {world.name!r} has no walkers to judge against")
     return Scenario(path, spec, world, mission, events, config)
 
 

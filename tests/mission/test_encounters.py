@@ -27,6 +27,7 @@ def test_a_person_passing_is_one_encounter_with_its_wait_and_slow_times():
     (e,) = enc.sections()["people"]
     assert (e["t"], e["x"], e["y"]) == (5.0, 3.0, 1.5)
     assert abs(e["slowed_s"] - 2.0) <= 0.11 and abs(e["waited_s"] - 4.0) <= 0.11
+    assert abs(e["lost_s"] - (2.0 * 0.5 + 4.0)) <= 0.11  # half the speed withheld while slowed, all while stopped
     assert e["nearest_m"] == 0.28
 
 

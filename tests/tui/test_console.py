@@ -108,6 +108,9 @@ def test_the_status_bar_says_what_matters():
         assert part in text
     v.estop_engaged = True
     assert "E-STOP ENGAGED" in status_text(v).plain
+    assert "stop" not in status_text(idle_view()).plain.replace("e-stop", "")  # the monitor says nothing when clear
+    v.monitor_action, v.monitor_nearest = "slowdown", 0.52
+    assert " slowdown 0.52 m " in status_text(v).plain
 
 
 def test_the_status_bar_wraps_between_chips_on_a_narrow_terminal():

@@ -41,6 +41,10 @@ def status_chips(v: RobotView) -> list[Text]:
         nav.append(f" ({v.nav_reason})", "bold red" if v.nav_state == "failed" else "")
     chips.append(nav)
     chips.append(Text(f"wheels: {v.mux_source}"))
+    if v.monitor_action != "none":  # the collision monitor is holding the base back, and why
+        near = f" {v.monitor_nearest:.2f} m" if math.isfinite(v.monitor_nearest) else ""
+        chips.append(Text(f" {v.monitor_action}{near} ", "bold white on red" if v.monitor_action in ("stop", "blind")
+                          else "bold black on yellow"))
     down = [f"{name} {state}" for name, state in v.controllers.items() if state != "active"]
     controllers = Text("controllers: ")
     if not v.controllers:
