@@ -38,6 +38,7 @@ ROWS, PER_ROW, ROW_GAP, POT_GAP = 20, 100, 1.2, 0.4
 QUERIES = 30
 PESTS_LAST = 10
 START = datetime(2025, 1, 1, 6, 0, tzinfo=timezone.utc)
+TAGS = 587
 COLORS = np.array(["red", "white", "pink"])
 RUNS = "/var/lib/lupin/runs"
 
@@ -97,17 +98,22 @@ def build_year(history: History, days: int = DAYS, seed: int = 0) -> int:
                     when = _ts(started + timedelta(seconds=2.7 * i))
                     if failed[i]:
                         rows.append((pid, ids[i], i + 1, when, "failed", None, None, None, None, None,
-                                     float(xy[i, 0]), float(xy[i, 1]), "unreachable", None, None, float(facing[i]), i))
+                                     float(xy[i, 0]), float(xy[i, 1]), "unreachable", None, None, float(facing[i]), _tag(i)))
                         continue
                     kinds = ("bug" if bug[i] else "") + ("," if bug[i] and blooms[i] == 0 else "") + \
                         ("no_bloom" if blooms[i] == 0 else "")
-                    rows.append((pid, ids[i], i + 1, when, "inspected", i, colors[i] if blooms[i] else "none",
+                    rows.append((pid, ids[i], i + 1, when, "inspected", _tag(i), colors[i] if blooms[i] else "none",
                                  int(blooms[i]), bool(bug[i]), 0.9, float(xy[i, 0]), float(xy[i, 1]), kinds,
-                                 f"{base}/{ids[i]}_front.jpg", f"{base}/{ids[i]}_wrist.jpg", float(facing[i]), i))
+                                 f"{base}/{ids[i]}_front.jpg", f"{base}/{ids[i]}_wrist.jpg", float(facing[i]), _tag(i)))
                 patrols.append(pid)
             conn.exec_driver_sql(sql, rows)
         written += len(rows)
     return written
+
+
+def _tag(k: int) -> int | None:
+    """Pot k's tag: the 36h11 family has 587 ids, so a 2,000-pot greenhouse tags only some."""
+    return k if k < TAGS else None
 
 
 def _ts(t: datetime) -> str:
@@ -156,8 +162,8 @@ def bench_query(config: LupinConfig) -> Sample:
         "patrols": DAYS * PER_DAY, "pots": POTS, "observations": n, "build_s": round(build_s, 1),
         "db_mb": round(size_mb, 1), "pot_timeline_ms": _stats(pot_ms), "changes_ms": _stats(changes_ms),
         "pests_ms": _stats(pests_ms), "pests_last": PESTS_LAST, **checks,
-        "goal_ms": 100, "all_within_goal": max(np.percentile(pot_ms, 95), np.percentile(changes_ms, 95),
-                                               np.percentile(pests_ms, 95)) <= 100})
+        "goal_ms": 100, "all_within_goal": bool(max(np.percentile(pot_ms, 95), np.percentile(changes_ms, 95),
+                                               np.percentile(pests_ms, 95)) <= 100)})
 
 
 WRITE_POTS, WRITE_PRIOR = 2000, 10
@@ -167,8 +173,8 @@ def _patrol_cost(history: History, tmp: Path) -> tuple[list[float], list[float],
     """One patrol of ``WRITE_POTS`` recorded pot by pot after ``WRITE_PRIOR`` earlier ones:
     (patrol-thread ms per pot, writer commit ms per pot, write errors)."""
     ids, xy = _grid()
-    m = Mission(name="greenhouse", pots=[MissionPot(id=i, x=float(x), y=float(y), facing=0.0, tag=k)
-                                         for k, (i, (x, y)) in enumerate(zip(ids, xy))])
+    m = Mission(name="greenhouse", pots=[MissionPot(id=i, x=float(x), y=float(y), facing=0.0, tag=_tag(k))
+                                         for k, (i, (x, y)) in enumerate(zip(ids[:WRITE_POTS], xy))])
     rng = np.random.default_rng(3)
 
     def entry(k: int, pest: bool) -> dict:
