@@ -241,6 +241,7 @@ class MapPanel(Widget):
         self._cells: list[np.ndarray | None] = [None, None]
         self._view: RobotView | None = None
         self.window = MapWindow()
+        self._title = ""
         self.frame: Frame | None = None
         """The window drawn last."""
         self.renders = 0
@@ -271,7 +272,9 @@ class MapPanel(Widget):
         self._drawn = key
         cv = map_pixels(view, size.width, size.height, w)
         self._strips, self.frame = strips(cv), cv.frame
-        self.border_title = title(w, self.frame)
+        named = title(w, self.frame)
+        if named != self._title:  # setting a border title repaints, even unchanged
+            self.border_title = self._title = named
         self.renders += 1
         self.refresh()
 

@@ -29,7 +29,6 @@ MARKS = ((r"\[\*\]", "bold cyan"), (r"\[✓\]", "green"), (r"\[✕\]", "bold red
 """py_trees' unicode status marks: running, success, failure."""
 NO_TREE = "no mission yet: press m to start one"
 _ANSI = re.compile(r"\x1b\[[0-9;]*[A-Za-z]")
-_LINE = re.compile(r"^(\s*)(.*?) \[(.)\]")
 
 
 def tree_text(tree: str) -> Text:
@@ -55,35 +54,51 @@ def running_line(tree: str) -> int | None:
 Path = tuple[str, ...]
 
 
-def parse(lines: list[str]) -> list[tuple[int, Path, str]]:
-    """Per line (ANSI codes removed): its indent, the names from the root down to it (the
-    node's identity from one tree to the next) and its status mark ('*', '✓', '✕', '-';
-    '' for a line that is not a node)."""
-    out: list[tuple[int, Path, str]] = []
+def _indent(line: str) -> int:
+    return len(line) - len(line.lstrip(" "))
+
+
+def _node(line: str) -> tuple[str, str]:
+    """A line's node name (with py_trees' type marker) and status mark ('*', '✓', '✕', '-';
+    '' for a line that is not a node): the first `` [x]`` after the type marker (``[o]`` for
+    a selector) ends the name."""
+    at = line.find(" [", _indent(line))
+    while at >= 0 and not (len(line) > at + 3 and line[at + 3] == "]"):
+        at = line.find(" [", at + 1)
+    if at < 0:
+        return line.strip(), ""
+    return line[:at].strip(), line[at + 2]
+
+
+def fold(lines: list[str], keep_open: set[Path]) -> tuple[list[int], set[Path], int | None]:
+    """One pass over the tree's lines (ANSI codes removed): the lines shown (the root, and a
+    node's children only while it runs or its path, the names from the root down to it, is in
+    ``keep_open``), the paths of the running nodes, and the line to keep in view (the deepest
+    open or running one). A closed node's subtree is skipped on its indent alone."""
+    shown: list[int] = []
+    running: set[Path] = set()
     stack: list[tuple[int, str]] = []
-    for line in lines:
-        m = _LINE.match(line)
-        indent = len(line) - len(line.lstrip())
-        name, mark = (m.group(2), m.group(3)) if m else (line.strip(), "")
-        while stack and stack[-1][0] >= indent:
-            stack.pop()
-        stack.append((indent, name))
-        out.append((indent, tuple(n for _, n in stack), mark))
-    return out
-
-
-def fold(nodes: list[tuple[int, Path, str]], open_paths: set[Path]) -> list[int]:
-    """The lines shown: the root, and a node's children only while the node is open."""
-    shown, closed_below = [], None  # indent of the closed node whose subtree is being skipped
-    for i, (indent, path, _) in enumerate(nodes):
+    closed_below, focus, focus_key = None, None, (-1, False)  # indent of the closed node being skipped
+    for i, line in enumerate(lines):
+        indent = _indent(line)
         if closed_below is not None:
             if indent > closed_below:
                 continue
             closed_below = None
+        name, mark = _node(line)
+        while stack and stack[-1][0] >= indent:
+            stack.pop()
+        stack.append((indent, name))
+        path = tuple(n for _, n in stack)
         shown.append(i)
-        if path not in open_paths:
+        if mark == "*":
+            running.add(path)
+        elif path not in keep_open:
             closed_below = indent
-    return shown
+            continue
+        if (indent, mark == "*") > focus_key:
+            focus, focus_key = i, (indent, mark == "*")
+    return shown, running, focus
 
 
 def narrow(line: str) -> str:
@@ -103,18 +118,15 @@ class TreeFolder:
     def lines(self, tree: str) -> tuple[list[str], int | None]:
         """The raw lines to show and, among them, the line to keep in view."""
         raw = tree.splitlines()
-        nodes = parse([_ANSI.sub("", line) for line in raw])
-        running = {path for _, path, mark in nodes if mark == "*"}
-        deepest = max((i for i, n in enumerate(nodes) if n[2] == "*"), key=lambda i: nodes[i][0], default=None)
-        held = deepest is None or (deepest + 1 < len(nodes) and nodes[deepest + 1][0] > nodes[deepest][0])
+        clean = [_ANSI.sub("", line) for line in raw] if "\x1b" in tree else raw
+        stars = [i for i, line in enumerate(clean) if "[*]" in line]
+        deepest = max(stars, key=lambda i: _indent(clean[i]), default=None)
+        held = deepest is None or (deepest + 1 < len(clean) and _indent(clean[deepest + 1]) > _indent(clean[deepest]))
+        if held and not self.last_running:
+            return raw, deepest  # nothing ran yet that we saw: the whole tree
+        shown, running, focus = fold(clean, self.last_running if held else set())
         if not held:
             self.last_running = running
-        elif not self.last_running:
-            return raw, deepest  # nothing ran yet that we saw: the whole tree
-        open_paths = running | (self.last_running if held else set())
-        shown = fold(nodes, open_paths)
-        keep = [i for i in shown if nodes[i][1] in open_paths or nodes[i][2] == "*"]
-        focus = max(keep, key=lambda i: (nodes[i][0], nodes[i][2] == "*"), default=None)
         return [raw[i] for i in shown], None if focus is None else shown.index(focus)
 
 

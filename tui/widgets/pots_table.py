@@ -45,6 +45,7 @@ class PotsTable(DataTable):
         self._rows: list[tuple[str, ...]] = []
         self._view: RobotView | None = None
         self._followed: str | None = None
+        self._title = ""
         self.anomalies_only = False
         """Show only the pots with anomalies (the operator's ``a``)."""
 
@@ -60,7 +61,9 @@ class PotsTable(DataTable):
                 self.add_column(name, key=name)
         pots = [p for p in view.pots if p.anomalies] if self.anomalies_only else view.pots
         rows = [pot_row(p) for p in pots]
-        self.border_title = table_title(len(rows), len(view.pots), self.anomalies_only)
+        title = table_title(len(rows), len(view.pots), self.anomalies_only)
+        if title != self._title:  # setting a border title repaints the whole table, even unchanged
+            self.border_title = self._title = title
         if rows != self._rows:
             self._update(rows)
         active = next((r[0] for r in rows if r[1] == "active"), None)
