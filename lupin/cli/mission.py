@@ -78,8 +78,15 @@ def rescout(
         raise typer.Exit(1)
     _write(dump_mission(plan.mission), output)
     print(f"{plan.mission.name}: {len(plan.mission.pots)} pots: {len(plan.pests)} with a pest in the last "
-          f"{len(pests.patrols)} patrol(s) ({', '.join(plan.pests)}), {len(plan.neighbours)} within {radius:g} m "
-          f"({', '.join(plan.neighbours) or 'none'})", file=say)
+          f"{len(pests.patrols)} patrol(s) ({_some(plan.pests)}), {len(plan.neighbours)} within {radius:g} m "
+          f"({_some(plan.neighbours)})", file=say)
+
+
+def _some(ids: tuple[str, ...], most: int = 12) -> str:
+    """Pot ids for a line of output: the first ``most``, then how many more."""
+    if not ids:
+        return "none"
+    return ", ".join(ids[:most]) + (f" and {len(ids) - most} more" if len(ids) > most else "")
 
 
 def _write(text: str, output: Optional[Path]) -> None:

@@ -22,6 +22,9 @@ from nav.occupancy import OccupancyMap
 FONT = cv2.FONT_HERSHEY_SIMPLEX
 GREEN, YELLOW, RED = np.array((60, 170, 60)), np.array((0, 210, 240)), np.array((40, 40, 215))
 """BGR ends of the pressure scale."""
+ALL_LABELS, TOP_LABELS = 80, 12
+"""Up to ALL_LABELS pots every pot is named; past that, only the TOP_LABELS worst (the rest would
+be ink over ink)."""
 MIN_WIDTH = 420
 """Pixels: the title and the scale need this much, whatever the map's size."""
 
@@ -57,13 +60,19 @@ def draw_pests(pests: PestMap, occupancy: OccupancyMap | None) -> np.ndarray:
     img = render_map(m, scale)
     h, w = img.shape[:2]
     ppm = scale / m.resolution
-    r = int(min(max(round(0.15 * ppm), 6), 14))
+    spacing = nearest_spacing(np.array([(p.x, p.y) for p in placed]).reshape(-1, 2)) * ppm
+    r = int(max(2, min(max(round(0.15 * ppm), 6), 14, int(0.42 * spacing))))
+    ring = 1 if r < 6 else 3
+    labelled = {p.pot_id for p in placed} if len(placed) <= ALL_LABELS else {
+        p.pot_id for p in sorted(placed, key=lambda p: (-p.pressure, -p.streak))[:TOP_LABELS] if p.pests}
     for p in placed:
         c, rr = to_pixel(m, scale, p.x, p.y)
         c, rr = min(max(c, 0), w - 1), min(max(rr, 0), h - 1)
         colour = pressure_colour(p.pressure) if p.observed else GREY
         cv2.circle(img, (c, rr), r, colour, -1, cv2.LINE_AA)
-        cv2.circle(img, (c, rr), r + (3 if p.streak else 0), INK, 3 if p.streak else 1, cv2.LINE_AA)
+        cv2.circle(img, (c, rr), r + (ring if p.streak else 0), INK, ring if p.streak else 1, cv2.LINE_AA)
+        if p.pot_id not in labelled:
+            continue
         label = f"{p.pot_id} {p.pests}/{p.observed}" if p.pests else p.pot_id
         tw = cv2.getTextSize(label, FONT, 0.42, 1)[0][0]
         org = (c + r + 4 if c + r + 4 + tw < w else c - r - 4 - tw, rr + 5)
@@ -71,6 +80,18 @@ def draw_pests(pests: PestMap, occupancy: OccupancyMap | None) -> np.ndarray:
         cv2.putText(img, label, org, FONT, 0.42, INK, 1, cv2.LINE_AA)
     width = max(w, MIN_WIDTH)
     return _pad_stack([_title(pests, width), img, _scale(width)])
+
+
+def nearest_spacing(xy: np.ndarray, chunk: int = 512) -> float:
+    """The smallest distance between two pots, m (inf for fewer than two): discs never overlap."""
+    if len(xy) < 2:
+        return float("inf")
+    best = np.inf
+    for i in range(0, len(xy), chunk):
+        d = np.hypot(*(xy[i:i + chunk, None, :] - xy[None, :, :]).transpose(2, 0, 1))
+        d[np.arange(d.shape[0]), np.arange(i, i + d.shape[0])] = np.inf
+        best = min(best, float(d.min()))
+    return best
 
 
 def _title(pests: PestMap, width: int) -> np.ndarray:
