@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import re
 
+from rich.cells import cell_len
 from rich.text import Text
 from textual.app import ComposeResult
 from textual.containers import VerticalScroll
@@ -139,6 +140,7 @@ class MissionTree(VerticalScroll, can_focus=False):  # the arrows drive the robo
         self._tree: str | None = None
         self._followed: int | None = None
         self._focus: int | None = None
+        self._text_size = (0, 0)
         self._folder = TreeFolder()
         self._body = Static(Text(NO_TREE, "dim"), classes="tree-text")
         self.shown: list[str] = []
@@ -152,11 +154,15 @@ class MissionTree(VerticalScroll, can_focus=False):  # the arrows drive the robo
             self._tree = view.tree
             if not view.tree:
                 self._body.update(Text(NO_TREE, "dim"))
+                self._text_size = (0, 0)
                 self.shown, self._focus = [], None
                 return
             lines, self._focus = self._folder.lines(view.tree)
             self.shown = [narrow(line) for line in lines]
-            self._body.update(tree_text("\n".join(self.shown)))
+            text = tree_text("\n".join(self.shown))
+            size = (len(self.shown), max((cell_len(line) for line in text.plain.split("\n")), default=0))
+            self._body.update(text, layout=size != self._text_size)  # one pot's steps for another's: same size, no layout
+            self._text_size = size
         if self._focus is not None and self._focus != self._followed:
             self._followed = self._focus
             self.call_after_refresh(self._follow, self._focus)
