@@ -139,7 +139,8 @@ def test_a_stale_scan_stops_driving_not_turning():
 
 
 def test_the_lidar_mount_is_applied():
-    """A return 0.17 m in front of the lidar is 0.285 m in front of the base centre."""
+    """A return 0.17 m in front of the lidar is 0.285 m in front of the base centre (with no
+    mount it would be 0.17 m: inside the footprint, dropped as the robot's own body)."""
     m, lidar = monitor()
     lidar.scan = LidarScan(0.0, np.zeros(5, dtype=np.float32) + np.linspace(-0.05, 0.05, 5, dtype=np.float32),
                            np.full(5, 0.17, dtype=np.float32))
