@@ -3,8 +3,9 @@
 Each walker goes along its path at its speed, waits ``pause`` seconds at each end and walks it
 back (ping-pong), from ``start`` seconds on. It does not yield to the robot, except that it
 stops while its next step would bring its body within ``KEEP_CLEAR`` of the robot's (people do
-not walk into a machine) and goes on when that is clear. Its body is a circle of half its width
-for that rule; the robot's is ``ROBOT_RADIUS``. The motion is advanced with the drive's
+not walk into a machine) and goes on when that is clear. Its body for that rule (and for the
+judges' clearance) is what it stands on the floor with at the robot's height, its legs and
+its cart (``footprint_gap``); the robot's is the ``ROBOT_RADIUS`` circle. The motion is advanced with the drive's
 ``pre_chunk`` beat (every 10 ms of sim time) from the sim's own state only: no randomness, so
 the same world and seed give the same walk. ``hold`` stops and starts a walker (events).
 """
@@ -18,6 +19,13 @@ import numpy as np
 
 from sim.engine import Engine
 from sim.world_checks import ROBOT_RADIUS
+
+LEG_RADIUS = 0.07
+"""A leg's radius, m (``sim.greenhouse``'s walker model: legs half the width apart)."""
+CART_HALF_WIDTH = 0.3
+"""A walker wider than twice this pushes a cart (``sim.greenhouse``)."""
+CART_AHEAD, CART_HALF_DEPTH = 0.45, 0.3
+"""The cart's centre ahead of the walker and its half depth, m (``sim.greenhouse``)."""
 
 KEEP_CLEAR = 0.3
 """A walker stops while its next step would bring it this close to the robot's body, m."""
@@ -46,6 +54,21 @@ class _Walk:
         return np.array([np.interp(s, self.lengths, self.path[:, 0]), np.interp(s, self.lengths, self.path[:, 1])])
 
 
+def footprint_gap(cx: float, cy: float, heading: float, half: float, x: float, y: float) -> float:
+    """Distance from (x, y) to a walker's floor footprint: its legs (and the cart it pushes),
+    the parts at the robot's height (the torso starts at 0.86 m, above the robot). A walker at
+    (cx, cy) facing ``heading``, half as wide as ``half`` * 2."""
+    c, s = math.cos(heading), math.sin(heading)
+    dx, dy = x - cx, y - cy
+    along, across = c * dx + s * dy, -s * dx + c * dy
+    legs = min(math.hypot(along, across - side) for side in (half / 2, -half / 2)) - LEG_RADIUS
+    if half <= CART_HALF_WIDTH:
+        return legs
+    ox = max(abs(along - CART_AHEAD) - CART_HALF_DEPTH, 0.0)
+    oy = max(abs(across) - half, 0.0)
+    return min(legs, math.hypot(ox, oy) if ox or oy else -min(CART_HALF_DEPTH - abs(along - CART_AHEAD), half - abs(across)))
+
+
 class SimWalkers:
     def __init__(self, engine: Engine, walkers, robot_xy):
         """``robot_xy()``: the robot's true position (the rule needs where the machine is)."""
@@ -66,6 +89,11 @@ class SimWalkers:
         """Each walker's (x, y, body radius), world frame."""
         return {k: (float(p[0]), float(p[1]), w.half) for k, w in self._walks.items() for p in [w.at(w.s)]}
 
+    def gap(self, walker: str, x: float, y: float) -> float:
+        """Distance from (x, y) to what the walker stands on the floor with, m (negative inside)."""
+        w = self._walks[walker]
+        return footprint_gap(*w.at(w.s), w.heading, w.half, x, y)
+
     def hold(self, walker: str, held: bool) -> None:
         """Stop a walker where it is (True) or let it walk on (False)."""
         if walker not in self._walks:
@@ -83,11 +111,11 @@ class SimWalkers:
             step = w.speed * dt * (1 if w.forward else -1)
             s = min(max(w.s + step, 0.0), w.lengths[-1])
             (x, y), (x0, y0) = w.at(s), w.at(w.s)
-            gap = math.hypot(x - rx, y - ry) - ROBOT_RADIUS - w.half
-            if gap < KEEP_CLEAR and gap < math.hypot(x0 - rx, y0 - ry) - ROBOT_RADIUS - w.half:
+            heading = math.atan2(y - y0, x - x0) if s != w.s else w.heading
+            gap = footprint_gap(x, y, heading, w.half, rx, ry) - ROBOT_RADIUS
+            if gap < KEEP_CLEAR and gap < footprint_gap(x0, y0, w.heading, w.half, rx, ry) - ROBOT_RADIUS:
                 continue  # the next step would come too close to the machine: wait (a step away is fine)
-            if s != w.s:
-                w.heading = math.atan2(y - y0, x - x0)
+            w.heading = heading
             w.s = s
             if s in (0.0, w.lengths[-1]) and (s == w.lengths[-1]) == w.forward:
                 w.forward = not w.forward

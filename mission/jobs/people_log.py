@@ -2,9 +2,9 @@
 the scenario judge (``expect.people``) and ``lupin bench safety.people``.
 
 Sampled by the simulator before every physics chunk (10 ms: at 1 m/s a walker and the robot
-close in by at most ~2 cm between samples). Clearance is body to body: the distance between
-the robot's centre and the walker's, less the robot's footprint radius and the walker's half
-width. A contact is an onset of a walker geom touching the chassis (``ContactLog``). Judging
+close in by at most ~2 cm between samples). Clearance is body to body at the robot's height:
+from the robot's footprint circle to the walker's legs (and the cart it pushes), which is what
+the lidar sees of a person and what the robot could touch (``sim.walkers.footprint_gap``). A contact is an onset of a walker geom touching the chassis (``ContactLog``). Judging
 only: nothing steers by it.
 """
 from __future__ import annotations
@@ -32,8 +32,8 @@ class PeopleLog:
 
     def pre_chunk(self, t: float) -> None:
         robot = self.sim.truth()
-        for walker, (x, y, half) in self.sim.walkers.positions().items():
-            gap = math.hypot(x - robot.x, y - robot.y) - ROBOT_RADIUS - half
+        for walker in self.min_clearance:
+            gap = self.sim.walkers.gap(walker, robot.x, robot.y) - ROBOT_RADIUS
             if gap < self.min_clearance[walker]:
                 self.min_clearance[walker] = gap
                 self.close_at[walker] = (t, robot.x, robot.y)

@@ -3,6 +3,8 @@ their pause and walk back, start late when asked, stop short of the robot and on
 and go on command, and the lidar sees them."""
 from __future__ import annotations
 
+import math
+
 import mujoco
 import numpy as np
 import pytest
@@ -10,7 +12,7 @@ import pytest
 from hw.config import HwConfig
 from sim.backend import SimRobot
 from sim.config import SimConfig
-from sim.walkers import KEEP_CLEAR
+from sim.walkers import KEEP_CLEAR, LEG_RADIUS, footprint_gap
 from sim.world import Floor, Pose2, Walker, World, ROBOT_RADIUS
 
 pytestmark = pytest.mark.slow
@@ -43,8 +45,9 @@ def test_a_walker_walks_its_path_pauses_and_comes_back():
 def test_a_walker_stops_short_of_the_robot_and_goes_on_when_it_leaves():
     sim = _robot(spawn=(4.0, 2.0))
     x, _ = _at(sim, 4.0)
-    gap = 4.0 - x - ROBOT_RADIUS - 0.225
+    gap = sim.walkers.gap("W1", 4.0, 2.0) - ROBOT_RADIUS
     assert KEEP_CLEAR - 0.02 <= gap <= KEEP_CLEAR + 0.02       # waiting, 0.3 m from the robot's body
+    assert x == pytest.approx(4.0 - ROBOT_RADIUS - KEEP_CLEAR - LEG_RADIUS, abs=0.02)  # its legs lead
     sim.place(4.0, 3.5, 0.0)                                   # the robot is lifted out of the aisle
     assert _at(sim, 6.5)[0] == pytest.approx(x + 2.5, abs=0.02)  # it walks on at its speed
 
@@ -72,3 +75,13 @@ def test_the_lidar_sees_a_walker():
     wrapped = np.arctan2(np.sin(scan.angles), np.cos(scan.angles))
     ahead = scan.ranges[np.abs(wrapped) < 0.1]
     assert ahead.min() < 1.0  # a body ~0.8-0.95 m ahead, not the wall 7 m away
+
+
+def test_the_footprint_is_the_legs_and_the_cart_ahead():
+    """A person facing +x at the origin, 0.45 m wide: legs 0.07 m in radius at y = +-0.1125; a
+    cart pusher (0.9 m) has a 0.6 x 0.9 m cart from 0.15 to 0.75 m ahead."""
+    assert footprint_gap(0, 0, 0.0, 0.225, 0.5, 0.1125) == pytest.approx(0.43)
+    assert footprint_gap(0, 0, 0.0, 0.225, 0.0, 0.5) == pytest.approx(0.5 - 0.1125 - 0.07)
+    assert footprint_gap(0, 0, math.pi, 0.225, -0.5, -0.1125) == pytest.approx(0.43)  # turned round
+    assert footprint_gap(0, 0, 0.0, 0.45, 1.0, 0.0) == pytest.approx(0.25)  # the cart's front
+    assert footprint_gap(0, 0, 0.0, 0.45, 0.5, 0.0) < 0  # inside the cart
