@@ -144,22 +144,26 @@ def test_the_tree_panel_follows_the_running_step():
     assert seen["top"] <= 251 < seen["top"] + seen["height"]
 
 
-def test_the_pots_table_updates_cells_in_place():
+def test_the_pots_table_updates_a_row_and_keeps_the_others_drawn():
     v = patrolling_view()
     seen = {}
 
     def finish_p03(app):
-        seen["rows"] = app.main.pots_table.row_count
+        table = app.main.pots_table
+        seen["rows"] = table.row_count
+        seen["kept"] = dict(table._strips)
         v.pots[2].status, v.pots[2].tag, v.pots[2].flower, v.pots[2].blooms = "inspected", 3, "pink", 2
         app.redraw()
 
     def look(app):
         table = app.main.pots_table
         seen["after"] = table.row_count
-        seen["P03"] = [str(table.get_cell("P03", c)) for c in ("status", "tag", "flower", "blooms")]
+        seen["P03"] = table.row("P03")[1:5]
+        seen["same"] = [i for i, s in seen["kept"].items() if table._strips.get(i) is s]
 
     console(lambda: v, [finish_p03, look])
-    assert seen == {"rows": 6, "after": 6, "P03": ["inspected", "3", "pink", "2"]}
+    assert seen["rows"] == seen["after"] == 6 and seen["P03"] == ("inspected", "3", "pink", "2")
+    assert sorted(seen["same"]) == [0, 1, 3, 4, 5]  # only P03's row was drawn again
 
 
 def test_the_log_panel_follows_a_rolling_window():

@@ -111,8 +111,7 @@ def test_a_shows_only_the_pots_with_anomalies():
     def look(name):
         def at(app):
             table = app.main.pots_table
-            seen[name] = ([str(table.get_row_at(i)[0]) for i in range(table.row_count)],
-                          {str(table.get_row_at(i)[5]) for i in range(table.row_count)}, str(table.border_title))
+            seen[name] = ([r[0] for r in table.rows], {r[5] for r in table.rows}, str(table.border_title))
         return at
 
     def new_anomaly(app):

@@ -3,28 +3,26 @@ scrolled to keep the running step in view.
 
 A 200-pot patrol's tree is thousands of lines (some fifteen per pot), nearly all of them the
 steps of pots finished or not started, and at the top the battery-low branch, which only runs
-when the pack is flat. Shown whole, the panel opens on that idle branch with the pot in
-progress far below, and Textual lays the whole text out again at every change (hundreds of
-milliseconds a time at that size). So the panel folds: a node's children are shown only while
-the node runs. Every pot keeps its one line (its status mark says done or to do), the pot in
+when the pack is flat. Shown whole, the panel opened on that idle branch with the pot in
+progress far below, and took hundreds of milliseconds to lay the text out at every change. So
+the panel folds: a node's children are shown only while the node runs. Every pot keeps its one line (its status mark says done or to do), the pot in
 progress is open down to the running step, the battery-low branch is one line.
 
 While a guard holds the mission (e-stop, pause), py_trees stops the subtree (every status below
 it goes to ``[-]``), which would fold the pot in progress away just when the operator looks for
 it: then the branch that ran last stays open. A tree in which nothing runs and no branch ran
-before (a console started after the end) is shown whole.
+before (a console started after the end) is shown whole. The panel draws only the lines in
+view (:mod:`tui.widgets.text_lines`).
 """
 from __future__ import annotations
 
 import re
 
-from rich.cells import cell_len
 from rich.text import Text
-from textual.app import ComposeResult
-from textual.containers import VerticalScroll
-from textual.widgets import Static
 
 from mission.link.view import RobotView
+from tui.widgets.follow import follow_top
+from tui.widgets.text_lines import TextLines
 
 MARKS = ((r"\[\*\]", "bold cyan"), (r"\[✓\]", "green"), (r"\[✕\]", "bold red"))
 """py_trees' unicode status marks: running, success, failure."""
@@ -131,49 +129,38 @@ class TreeFolder:
         return [raw[i] for i in shown], None if focus is None else shown.index(focus)
 
 
-class MissionTree(VerticalScroll, can_focus=False):  # the arrows drive the robot
-    """The tree folded to its running branch, scrolled to keep the running step in view; the
-    operator may scroll away with the mouse until the step changes."""
+class MissionTree(TextLines):
+    """The tree folded to its running branch, kept in view as the step changes; the operator
+    may scroll away with the mouse until the step changes."""
 
     def __init__(self, **kw):
         super().__init__(**kw)
         self._tree: str | None = None
         self._followed: int | None = None
         self._focus: int | None = None
-        self._text_size = (0, 0)
         self._folder = TreeFolder()
-        self._body = Static(Text(NO_TREE, "dim"), classes="tree-text")
         self.shown: list[str] = []
         """The tree's lines on the panel now (folded, narrowed, ANSI codes and all)."""
-
-    def compose(self) -> ComposeResult:
-        yield self._body
 
     def show(self, view: RobotView) -> None:
         if view.tree != self._tree:
             self._tree = view.tree
             if not view.tree:
-                self._body.update(Text(NO_TREE, "dim"))
-                self._text_size = (0, 0)
+                self.set_lines([Text(NO_TREE, "dim")])
                 self.shown, self._focus = [], None
                 return
             lines, self._focus = self._folder.lines(view.tree)
             self.shown = [narrow(line) for line in lines]
-            text = tree_text("\n".join(self.shown))
-            size = (len(self.shown), max((cell_len(line) for line in text.plain.split("\n")), default=0))
-            self._body.update(text, layout=size != self._text_size)  # one pot's steps for another's: same size, no layout
-            self._text_size = size
+            self.set_lines(list(tree_text("\n".join(self.shown)).split("\n")))
         if self._focus is not None and self._focus != self._followed:
             self._followed = self._focus
             self.call_after_refresh(self._follow, self._focus)
 
-    def in_view(self, line: int) -> bool:
-        return self.scroll_y <= line < self.scroll_y + self.scrollable_content_region.height
-
     def _follow(self, line: int) -> None:
-        """Scroll the line to the middle; if the text was not laid out yet (it cannot scroll
-        that far), try again at the next poll."""
-        height = self.scrollable_content_region.height
-        self.scroll_to(y=max(0, line - height // 2), animate=False, immediate=True)
+        """Keep the line in the middle half; if the panel was not laid out yet (it cannot
+        scroll that far), try again at the next poll."""
+        top = follow_top(line, self.scroll_y, self.view_height)
+        if top is not None:
+            self.scroll_to(y=top, animate=False, immediate=True)
         if not self.in_view(line):
             self._followed = None
