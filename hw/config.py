@@ -139,7 +139,8 @@ class ServoBusConfig(Strict):
 
 
 class StopZone(Strict):
-    """Points here stop the base: 8 cm ahead of the 0.22 m footprint, 2 cm to its sides. It
+    """Points here stop the base: 8 cm ahead of the 0.22 m footprint and as wide as it (what
+    the footprint sweeps going straight: a pot passed 1 cm to the side is not in the way). It
     cannot reach further ahead: at an approach pose the pot's rim is 0.40 m from the centre, and
     the monitor cannot tell a pot from a person, so a longer box stops every head-on approach
     short (0.42 m cost the default patrol ten stops and 1.6 s). Keeping further from a person
@@ -147,7 +148,7 @@ class StopZone(Strict):
 
     length: float = Field(0.30, gt=0)
     """From the base centre along the direction of travel, m."""
-    half_width: float = Field(0.24, gt=0)
+    half_width: float = Field(0.22, gt=0)
     """To either side of the direction of travel, m."""
 
 

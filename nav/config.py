@@ -103,8 +103,8 @@ class NavigatorConfig(Strict):
     while the newest lidar scan is older than this, s: five revolutions of the C1 at 10 Hz.
     Driving on a costmap that no longer sees is how a dropped USB link ends in a pot."""
     blocked_wait: float = Field(15.0, gt=0)
-    """Seconds a goal waits, its progress check and deadline stopped, while the collision
-    monitor holds the base for something in its way (a person in a 0.8 m aisle, where there is
+    """Seconds (in all, per goal) a goal waits, its progress check and deadline stopped, while
+    the collision monitor holds the base for something in its way (a person in a 0.8 m aisle, where there is
     no going round): waiting is what a person expects of a machine, and backing off into
     someone behind is worse. The planner keeps replanning meanwhile (the person is in the
     costmap, so another way round is taken where there is one); past this the goal fails

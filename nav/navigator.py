@@ -147,7 +147,7 @@ class Navigator:
         self.blind = False
         """True while a goal holds for want of a fresh scan (``scan_timeout``)."""
         self.held_for = 0.0
-        """Seconds the collision monitor has held the base without a break (``blocked_wait``)."""
+        """Seconds the collision monitor has held the base during this goal (``blocked_wait``)."""
 
     # -- the goal API --------------------------------------------------------------------------
 
@@ -250,10 +250,11 @@ class Navigator:
         return blind
 
     def _waiting(self, now: float, dt: float) -> bool:
-        """While the collision monitor holds the base, the goal's clocks stop (for at most
-        ``blocked_wait``); True when that wait ran out and the goal failed ``blocked``."""
+        """While the collision monitor holds the base, the goal's clocks (its deadline and its
+        progress check) stop, for at most ``blocked_wait`` seconds of holding in all: a person
+        who keeps stepping in and out of the way adds up. True when that ran out and the goal
+        failed ``blocked``."""
         if not self.io.held():
-            self.held_for = 0.0
             return False
         wait = self.config.navigator.blocked_wait
         if self.held_for == 0.0:
@@ -263,7 +264,8 @@ class Navigator:
             self._finish(State.FAILED, f"blocked: something stood in the way for {wait:g} s", now)
             return True
         self._deadline += dt
-        self._checkpoint = None
+        if self._checkpoint is not None:
+            self._checkpoint = (self._checkpoint[0], self._checkpoint[1] + dt)
         return False
 
     def _progressing(self, pose: Pose2D, now: float) -> bool:

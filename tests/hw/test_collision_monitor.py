@@ -81,7 +81,7 @@ def test_the_stop_zone_edge_ahead(along, stopped):
     assert (out.vx == 0.0) is stopped
 
 
-@pytest.mark.parametrize("across, stopped", [(0.235, True), (0.245, False)])
+@pytest.mark.parametrize("across, stopped", [(0.215, True), (0.225, False)])
 def test_the_stop_zone_edge_to_the_side(across, stopped):
     m, _ = monitor(np.stack([np.linspace(0.25, 0.28, 5), np.full(5, across)], axis=1))
     assert (m.filter(Twist(0.05, 0.0, 0.0), 0.05).vx == 0.0) is stopped

@@ -153,6 +153,22 @@ def test_a_short_wait_for_a_person_costs_the_goal_nothing():
     assert rig.nav.state is State.FAILED and rig.nav.reason.startswith("no progress") and 18.0 <= end <= 18.3
 
 
+def test_holds_that_come_and_go_add_up_and_do_not_renew_the_progress_check():
+    """Stop-and-go (held one tick in two) with the base never getting anywhere: the progress
+    check counts only the free half, so 10 s of it fail the goal at ~20 s; and blocked_wait
+    counts the held half."""
+    rig = Rig()
+    rig.nav.navigate_to(Pose2D(5.0, 0.0, 0.0), 0.0, timeout=120.0)
+    t = 0.0
+    while rig.nav.active and t < 60.0:
+        rig.held = round(t * 20) % 2 == 0
+        rig.tick(t)
+        t = round(t + 0.05, 6)
+    assert rig.nav.state is State.FAILED and rig.nav.reason.startswith("no progress"), rig.nav.reason
+    assert 19.5 <= t <= 21.0
+    assert 9.5 <= rig.nav.held_for <= 10.5
+
+
 def test_no_back_off_while_someone_is_close():
     rig = Rig(controller=FakeController(fail=True))
     rig.nav.navigate_to(Pose2D(2.0, 0.0, 0.0), 0.0, timeout=60.0)
