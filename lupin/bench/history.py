@@ -16,9 +16,13 @@ patrols of the same mission, one pot at a time. Two figures per database: ``thre
 time the patrol's own thread spends per pot (the row, its changes, the hand-off: what the robot
 waits for), and ``commit_ms``, the writer thread's transaction per pot (durable on disk).
 The benchmark's median and p95 are the patrol thread's on SQLite.
+
+Both report the machine's 1-minute load average at the end: on a shared 2-core machine a load of
+6 makes every figure here about three times what it is on an idle one.
 """
 from __future__ import annotations
 
+import os
 import random
 import tempfile
 import time
@@ -161,7 +165,7 @@ def bench_query(config: LupinConfig) -> Sample:
     return Sample(pot_ms + changes_ms + pests_ms, {
         "patrols": DAYS * PER_DAY, "pots": POTS, "observations": n, "build_s": round(build_s, 1),
         "db_mb": round(size_mb, 1), "pot_timeline_ms": _stats(pot_ms), "changes_ms": _stats(changes_ms),
-        "pests_ms": _stats(pests_ms), "pests_last": PESTS_LAST, **checks,
+        "pests_ms": _stats(pests_ms), "pests_last": PESTS_LAST, **checks, "load_avg_1m": round(os.getloadavg()[0], 2),
         "goal_ms": 100, "all_within_goal": bool(max(np.percentile(pot_ms, 95), np.percentile(changes_ms, 95),
                                                np.percentile(pests_ms, 95)) <= 100)})
 
@@ -223,6 +227,7 @@ def bench_write(config: LupinConfig) -> Sample:
                                          "write_errors": errors}
         finally:
             server.stop()
+    figures["load_avg_1m"] = round(os.getloadavg()[0], 2)
     return Sample(thread_ms, figures)
 
 

@@ -127,28 +127,29 @@ def pest_map(conn: Connection, last: int, mission: str | None = None) -> PestMap
     chosen = latest_patrols(conn, mission, last)
     rank = {p.id: k for k, p in enumerate(chosen)}  # 0: the latest
     in_chosen = O.c.patrol_id.in_(list(rank))
-    counts = {r.pot_id: (r.judged, int(r.pests or 0)) for r in conn.execute(
-        select(O.c.pot_id, func.count(O.c.bug).label("judged"),
-               func.sum(case((O.c.bug == True, 1), else_=0)).label("pests"))  # noqa: E712
+    counts = {pot_id: (judged, int(pests or 0)) for pot_id, judged, pests in conn.execute(
+        select(O.c.pot_id, func.count(O.c.bug), func.sum(case((O.c.bug == True, 1), else_=0)))  # noqa: E712
         .where(in_chosen).group_by(O.c.pot_id))}
     pest_at: dict[str, set[int]] = defaultdict(set)
     for pot_id, pid in conn.execute(select(O.c.pot_id, O.c.patrol_id).where(in_chosen, O.c.bug == True)):  # noqa: E712
         pest_at[pot_id].add(rank[pid])
     where_cols = (O.c.pot_id, O.c.x, O.c.y, O.c.facing, O.c.tag_expected)
-    where = {r.pot_id: r for r in conn.execute(select(*where_cols).where(O.c.patrol_id == chosen[0].id)
-                                                .order_by(O.c.seq))} if chosen else {}
+    where = {r[0]: r for r in conn.execute(select(*where_cols).where(O.c.patrol_id == chosen[0].id)
+                                           .order_by(O.c.seq))} if chosen else {}
     missing = [p for p in counts if p not in where]
     for chunk in (missing[i:i + 500] for i in range(0, len(missing), 500)):  # not seen by the latest patrol
-        for r in conn.execute(select(*where_cols, P.c.started_at).join(P, P.c.id == O.c.patrol_id)
+        for r in conn.execute(select(*where_cols).join(P, P.c.id == O.c.patrol_id)
                               .where(in_chosen, O.c.pot_id.in_(chunk)).order_by(P.c.started_at.desc())):
-            where.setdefault(r.pot_id, r)
+            where.setdefault(r[0], r)
     pots = []
-    for pot_id, r in where.items():
+    for pot_id, x, y, facing, tag in where.values():
         judged, pests = counts.get(pot_id, (0, 0))
-        streak, hits = 0, pest_at.get(pot_id, ())
-        while streak in hits:
-            streak += 1
-        pots.append(PestPressure(pot_id, r.x, r.y, r.facing, r.tag_expected, judged, pests, streak))
+        streak = 0
+        if pests:
+            hits = pest_at[pot_id]
+            while streak in hits:
+                streak += 1
+        pots.append(PestPressure(pot_id, x, y, facing, tag, judged, pests, streak))
     return PestMap(mission, tuple(chosen), tuple(pots))
 
 

@@ -1,5 +1,8 @@
-"""What the history hands back: plain, frozen records (no database objects leak out), each with
-``as_json`` for ``--json`` and for the link."""
+"""What the history hands back: plain records (no database objects leak out), each with
+``as_json`` for ``--json`` and for the link. The ones a query makes thousands of (observations,
+timeline entries, pest pressures) are slotted, not frozen: a frozen dataclass's ``__init__``
+costs ~6 us for 17 fields against ~1 us, and a year's timeline is 1,500 of them. Treat them as
+read-only all the same."""
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass, field, fields
@@ -55,7 +58,7 @@ class Patrol:
         return _json(self)
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)
 class Observation:
     """One pot in one patrol (spec/history.md ``observations``)."""
     pot_id: str
@@ -114,7 +117,7 @@ class Observation:
 Observation.COLUMNS = tuple(f.name for f in fields(Observation))
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)
 class TimelineEntry:
     """One pot in one patrol, with the patrol it was seen on."""
     patrol: int
@@ -154,7 +157,7 @@ class ChangeSet:
                 "changes": [c.as_json() for c in self.changes]}
 
 
-@dataclass(frozen=True)
+@dataclass(slots=True)
 class PestPressure:
     """One pot's pest record over the last patrols of a mission."""
     pot_id: str

@@ -8,6 +8,7 @@ binaries fail the tests that need them, saying what is missing: nothing is skipp
 """
 from __future__ import annotations
 
+from dataclasses import replace
 from datetime import datetime, timedelta, timezone
 import pytest
 
@@ -33,8 +34,7 @@ def add_patrol(history: History, rows: list[Observation], mission: str = "m", ro
                started: datetime = T0, outcome: str | None = "completed", report_path: str | None = None) -> int:
     """One whole patrol with ``rows`` (their seq renumbered in order), ended unless ``outcome`` is None."""
     pid = history.begin_patrol(PatrolStart(robot, mission, "w", report_path, len(rows)), started_at=started)
-    history.add_observations(pid, [Observation(**{**o.__dict__, "seq": k + 1, "observed_at": started})
-                                    for k, o in enumerate(rows)])
+    history.add_observations(pid, [replace(o, seq=k + 1, observed_at=started) for k, o in enumerate(rows)])
     if outcome is not None:
         history.end_patrol(pid, outcome, 100.0, 10.0, ended_at=started + timedelta(minutes=5))
     return pid
