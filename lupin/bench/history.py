@@ -91,8 +91,9 @@ def build_year(history: History, days: int = DAYS, seed: int = 0) -> int:
             for k in range(PER_DAY):
                 started = START + timedelta(days=day, hours=4 * k)
                 pid = conn.exec_driver_sql(
-                    "INSERT INTO patrols (robot, mission, world, started_at, ended_at, outcome, sim_time_s, distance_m, "
-                    "report_path, pots) VALUES (?, ?, NULL, ?, ?, 'completed', 5400.0, 410.0, ?, ?) RETURNING id",
+                    "INSERT INTO patrols (robot, mission, world, started_at, ended_at, outcome, sim_time_s, "
+                    "distance_m, report_path, pots) VALUES (?, ?, NULL, ?, ?, 'completed', 5400.0, 410.0, ?, ?) "
+                    "RETURNING id",
                     ("mirte", "greenhouse", _ts(started), _ts(started + timedelta(minutes=90)),
                      f"{RUNS}/greenhouse-{day * PER_DAY + k}/report.json", POTS)).scalar_one()
                 failed = rng.random(POTS) < 0.005
@@ -102,8 +103,8 @@ def build_year(history: History, days: int = DAYS, seed: int = 0) -> int:
                 for i in range(POTS):
                     when = _ts(started + timedelta(seconds=2.7 * i))
                     if failed[i]:
-                        rows.append((pid, ids[i], i + 1, when, "failed", None, None, None, None, None,
-                                     float(xy[i, 0]), float(xy[i, 1]), "unreachable", None, None, float(facing[i]), _tag(i)))
+                        rows.append((pid, ids[i], i + 1, when, "failed", None, None, None, None, None, float(xy[i, 0]),
+                                     float(xy[i, 1]), "unreachable", None, None, float(facing[i]), _tag(i)))
                         continue
                     kinds = ("bug" if bug[i] else "") + ("," if bug[i] and blooms[i] == 0 else "") + \
                         ("no_bloom" if blooms[i] == 0 else "")

@@ -48,8 +48,8 @@ class PostgresServer:
             self.as_user = ["runuser", "-u", "postgres", "--"]
         try:
             self._run("initdb", "-D", str(self.data), "-U", "lupin", "--auth=trust", "-E", "UTF8", "--no-sync")
-            self._run("pg_ctl", "-D", str(self.data), "-l", str(self.root / "log"), "-w", "-t", "60", "-o",
-                      f"-p {self.port} -k {self.root} -c listen_addresses=127.0.0.1 -c fsync={'on' if fsync else 'off'}",
+            options = f"-p {self.port} -k {self.root} -c listen_addresses=127.0.0.1 -c fsync={'on' if fsync else 'off'}"
+            self._run("pg_ctl", "-D", str(self.data), "-l", str(self.root / "log"), "-w", "-t", "60", "-o", options,
                       "start")
         except BaseException:
             shutil.rmtree(self.root, ignore_errors=True)

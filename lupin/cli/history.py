@@ -185,7 +185,8 @@ def pests(
     for p in hit:
         print(f"  {p.pot_id:<8} {f'{p.pests}/{p.observed}':>7} {p.pressure:>8.2f} {p.streak:>6}")
     if output is not None:
-        print(f"wrote {output}{'' if pm.patrols and saved_map(pm.patrols[0].report_path) is not None else ' (no saved map: a plain plot)'}")
+        plain = not pm.patrols or saved_map(pm.patrols[0].report_path) is None
+        print(f"wrote {output}{' (no saved map: a plain plot)' if plain else ''}")
 
 
 @history_app.command("export")

@@ -74,7 +74,8 @@ def rescout(
     plan = make_rescout(pests, radius)
     say = sys.stderr if output is None else sys.stdout
     if plan is None:
-        print(f"{pests.mission}: no pest in the last {len(pests.patrols)} patrol(s): nothing to re-scout", file=sys.stderr)
+        print(f"{pests.mission}: no pest in the last {len(pests.patrols)} patrol(s): nothing to re-scout",
+              file=sys.stderr)
         raise typer.Exit(1)
     _write(dump_mission(plan.mission), output)
     print(f"{plan.mission.name}: {len(plan.mission.pots)} pots: {len(plan.pests)} with a pest in the last "

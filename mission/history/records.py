@@ -87,8 +87,9 @@ class Observation:
         """A row selected as ``COLUMNS``: the fast path for a patrol's thousands of rows."""
         (pot_id, seq, observed_at, status, tag_read, color, blooms, bug, confidence, x, y, anomalies, front, wrist,
          facing, tag_expected, patrol_id) = r
-        return cls(pot_id, seq, as_utc(observed_at), status, tag_read, color, blooms, None if bug is None else bool(bug),
-                   confidence, x, y, tuple(k for k in (anomalies or "").split(",") if k), front, wrist, facing,
+        return cls(pot_id, seq, as_utc(observed_at), status, tag_read, color, blooms,
+                   None if bug is None else bool(bug), confidence, x, y,
+                   tuple(k for k in (anomalies or "").split(",") if k), front, wrist, facing,
                    tag_expected, patrol_id)
 
     def row(self, patrol_id: int) -> dict:

@@ -24,7 +24,7 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Callable, Iterator, Sequence
 
-from sqlalchemy import Connection, Engine, create_engine, event, select, update
+from sqlalchemy import Connection, Engine, create_engine, event, func, select, update
 from sqlalchemy.exc import SQLAlchemyError
 
 from hw.errors import InputError
@@ -173,7 +173,7 @@ class History:
 
     def version(self) -> int:
         with self.reading() as c:
-            return int(c.execute(select(schema_version.c.version).order_by(schema_version.c.version.desc())).scalar() or 0)
+            return int(c.execute(select(func.max(schema_version.c.version))).scalar() or 0)
 
 
 def open_history(url: str, option: str = "--history", create: bool = True, clock: Clock = utc_now,

@@ -60,7 +60,8 @@ def parse_history_url(text: str, option: str = "--history") -> HistoryTarget | N
             raise InputError(f"{option} {url.render_as_string(hide_password=True)}: name the database "
                              f"(postgresql://user@host/DB)")
         url = url.set(drivername="postgresql+psycopg")
-        return HistoryTarget(url, url.render_as_string(hide_password=True).replace("postgresql+psycopg", "postgresql", 1))
+        shown = url.render_as_string(hide_password=True).replace("postgresql+psycopg", "postgresql", 1)
+        return HistoryTarget(url, shown)
     raise InputError(f"{option} {scheme}://...: not a history database (give a file path, sqlite:///PATH, "
                      f"postgresql://user@host/db or none)")
 

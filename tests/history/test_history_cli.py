@@ -68,7 +68,8 @@ def test_a_pots_timeline(db, capsys):
 
 def test_changes_between_the_last_two_patrols(db, capsys):
     code, out, _ = run(capsys, "history", "changes", "--history", db)
-    assert code == 0 and out.splitlines()[0].startswith("m: patrol 2 (2025-05-01 12:00) -> patrol 4 (2025-05-01 18:00): 3")
+    head = out.splitlines()[0]
+    assert code == 0 and head.startswith("m: patrol 2 (2025-05-01 12:00) -> patrol 4 (2025-05-01 18:00): 3")
     kinds = [line.split()[:2] for line in out.splitlines()[1:]]
     assert kinds == [["P01", "color"], ["P02", "blooms"], ["P03", "failed"]]
     code, out, _ = run(capsys, "history", "changes", "--history", db, "--mission", "other", "--json")
