@@ -49,20 +49,21 @@ def test_a_console_reads_the_history_of_a_running_service(tmp_path, sqlite_histo
     from mission.link.client import LinkClient
     from mission.link.server import LinkServer, free_endpoint
     from mission.patrol.mission_file import mission_from_world
-    from mission.runtime.config import LupinConfig
+    from mission.runtime.config import LupinConfig, with_overrides
     from sim.world import load_default_world
     from tests.link.sim_service import wait_for
 
     add_patrol(sqlite_history, [obs("P01"), obs("P02")], started=T0)
     add_patrol(sqlite_history, [obs("P01", bug=True), obs("P02", blooms=4)], started=T0 + timedelta(hours=6))
-    service = start_sim_service(load_default_world(), LupinConfig(), tmp_path / "runs", time.perf_counter,
+    config = with_overrides(LupinConfig(), {"link": {"command_timeout": 20.0}})  # a loaded machine is slow
+    service = start_sim_service(load_default_world(), config, tmp_path / "runs", time.perf_counter,
                                 history=sqlite_history)
     endpoint = free_endpoint()
-    server = LinkServer(service, LupinConfig().link, "tok", endpoint)
+    server = LinkServer(service, config.link, "tok", endpoint)
     stop = threading.Event()
     thread = threading.Thread(target=run_service, args=(service, stop, server.close), daemon=True)
     thread.start()
-    c = LinkClient(endpoint, "mirte", "tok", timeout=10.0)
+    c = LinkClient(endpoint, "mirte", "tok", timeout=25.0)
     try:
         got, error = c.history("changes")
         assert error is None and [(x["pot"], x["kind"]) for x in got["changes"]] == [("P01", "pest_new"),
