@@ -5,14 +5,14 @@ then the stop, slowdown and approach verdict on a twist), on real MuJoCo scans o
 greenhouse taken at poses along the aisles, with a person standing in the aisle ahead in half
 of them, for forward, sideways and turning twists: median and p95 per scan (goal <= 0.5 ms).
 
-``safety.people``: whole patrols of generated greenhouses (3 rows x 5 pots) with ``WALKERS``
+``safety.people``: whole patrols of generated greenhouses (4 rows x 5 pots) with ``WALKERS``
 people walking the aisles, seed after seed, until at least ``MIN_ENCOUNTERS`` encounters (a
 stretch of the monitor stopping or slowing the base, the report's ``people``) have been
 counted; every patrol counts. Judged on ground truth (``mission.jobs.people_log``): contacts
 (goal 0) and the least body-to-body clearance to any walker (goal >= 0.2 m); the time lost per
 encounter (median, p95: the withheld share of the commanded speed, integrated); patrol success
-(every pot inspected and read right, as ``patrol.generated`` judges; goal 1.0); and the robot
-time each patrol took against the same world without walkers (``added_time_s``).
+(every pot inspected and read right, as ``patrol.generated`` judges; goal 1.0); and each
+patrol's robot time (the empty greenhouse's is ``patrol.generated``'s).
 """
 from __future__ import annotations
 
@@ -39,11 +39,11 @@ POSES = [(x, y, yaw) for x in (2.5, 3.5, 4.5) for y, yaw in ((0.5, 0.0), (2.5, m
 TWISTS = [Twist(0.4, 0.0, 0.0), Twist(0.0, 0.3, 0.0), Twist(0.3, 0.1, 0.6), Twist(0.1, 0.0, 0.0)]
 REPEATS = 50
 
-WALKERS = 4
+WALKERS = 6
 MIN_ENCOUNTERS = 100
 MAX_WORLDS = 40
 """Seeds tried at most (a run that cannot reach MIN_ENCOUNTERS says so rather than running on)."""
-ROWS, PER_ROW = 3, 5
+ROWS, PER_ROW = 4, 5
 
 
 @benchmark("safety.collision_monitor")
@@ -87,7 +87,7 @@ def _patrol(world: World, config: LupinConfig) -> tuple[dict, PeopleLog]:
 
 @benchmark("safety.people")
 def people(config: LupinConfig) -> Sample:
-    encounters, lost, clearances, added = [], [], [], []
+    encounters, lost, clearances, robot_time = [], [], [], []
     contacts = patrols = correct = pots = 0
     failed = []
     for seed in range(1, MAX_WORLDS + 1):
@@ -95,7 +95,6 @@ def people(config: LupinConfig) -> Sample:
             break
         world = generate_world(ROWS, PER_ROW, seed, walkers=WALKERS)
         doc, log = _patrol(world, config)
-        empty, _ = _patrol(world.model_copy(update={"walkers": []}), config)
         patrols += 1
         found = doc.get("people", [])
         encounters += found
@@ -106,7 +105,7 @@ def people(config: LupinConfig) -> Sample:
         correct, pots = correct + right, pots + len(world.pots)
         if right < len(world.pots) or doc["outcome"] != "completed":
             failed.append({"seed": seed, "outcome": doc["outcome"], "correct": right, "pots": len(world.pots)})
-        added.append(doc["sim_time_s"] - empty["sim_time_s"])
+        robot_time.append(doc["sim_time_s"])
     lost_arr = np.asarray(lost) if lost else np.zeros(1)
     return Sample([1000.0 * x for x in lost], {
         "encounters": len(encounters), "patrols": patrols, "walkers_per_world": WALKERS,
@@ -114,6 +113,6 @@ def people(config: LupinConfig) -> Sample:
         "median_clearance_m": round(float(np.median(clearances)), 3),
         "lost_per_encounter_median_s": round(float(np.median(lost_arr)), 2),
         "lost_per_encounter_p95_s": round(float(np.percentile(lost_arr, 95)), 2),
-        "added_time_per_patrol_median_s": round(float(np.median(added)), 1),
-        "added_time_per_patrol_p95_s": round(float(np.percentile(added, 95)), 1),
+        "patrol_time_median_s": round(float(np.median(robot_time)), 1),
+        "patrol_time_p95_s": round(float(np.percentile(robot_time, 95)), 1),
         "success_rate": round(correct / pots, 4) if pots else 0.0, "patrols_not_all_correct": failed})

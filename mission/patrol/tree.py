@@ -28,8 +28,9 @@
                                                                 or note what failed
                       record P01
                       stow arm P01                              arm to travel, or note it
-                    P01 failed                                records the pot failed (unreachable), or,
-                                                              when a person blocked the way, defers it
+                    P01 failed                                the first time, defers the pot (someone
+                                                              may be in the way); the second, records
+                                                              it failed (unreachable)
                 ...
                 P01 later                                 OneShot: only a deferred pot, once more
                 ...
@@ -50,7 +51,8 @@ the pot; a pot off the mission's pose is approached again from where it is and r
 ``moved``; with no tag where the pot should be, the pots the map shows nearby are looked at for
 it before it is ``not_found``.
 
-A failed pot is recorded and the patrol goes on: every pot branch succeeds. Only the start-up
+A pot the robot could not get to is tried again after the others (its ``later`` branch), then
+recorded failed; the patrol goes on: every pot branch succeeds. Only the start-up
 gate (heal, readiness) can fail the tree. The tag is read first, right at arrival, while the arm
 is still in its travel pose (the front camera does not need the arm).
 """
@@ -239,7 +241,9 @@ class PatrolTree:
 
     def _pot(self, pot: MissionPot, later: bool = False) -> Behaviour:
         """The pot's branch; ``later``: its second go, after the other pots, taken only when the
-        first was deferred (blocked by something in the way, typically a person in the aisle)."""
+        first failed to get there. In a greenhouse people work in, what stops a robot from a
+        pot (someone in the only aisle, a cart left on the approach pose) usually moves on: the
+        pot is tried again once everything else is done, and recorded failed only then."""
         c, visit = self.config, self.visits[pot.id]
         cams, clock = self.cameras, self.clock
 
@@ -285,7 +289,7 @@ class PatrolTree:
                 visit.failures["wrist"] = why(look)
 
         def pot_failed() -> None:
-            if not later and "search" not in visit.failures and "blocked" in why(approach):
+            if not later and "search" not in visit.failures:
                 visit.deferred, visit.arrived = True, None
                 visit.failures.clear()
                 return

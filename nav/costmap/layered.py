@@ -17,9 +17,7 @@ master to its map), and to take in the robot and each goal before a plan (``cove
 goal in unexplored ground is planned to through unknown space (allow_unknown) rather than
 being "outside the costmap". Its memory follows the greenhouse, not a worst-case square. The master is
 rebuilt in full every update: at 5 Hz on 60 x 60 cells and 1 Hz on 480 x 480 it costs less than
-the bookkeeping Nav2 uses to avoid it (see ``lupin bench nav.local_costmap``). Every change of
-the master moves ``version``; ``changes_since`` hands consumers the changed regions
-(``nav.costmap.deltas``).
+the bookkeeping Nav2 uses to avoid it (see ``lupin bench nav.local_costmap``).
 """
 from __future__ import annotations
 
