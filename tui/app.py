@@ -10,6 +10,11 @@ messages (:mod:`tui.messages`): a refusal is shown in the log and as a notificat
 one worker and a one-slot mailbox: a twist pressed while the previous one is still on its way
 replaces any twist still waiting, so a slow link never builds a backlog that would keep the
 robot driving after the key is let go, and a run of the same teleop refusal is told once.
+
+The robot's patrol history (``commands.history``: the link client's; a ``Commands`` without it
+has none) is asked on a worker of its own, one question at a time: when the patrol starts or
+ends or a pot is finished, and every ``HISTORY_S`` seconds. Its answers fill the pot table's
+history columns (:mod:`tui.history_marks`); ``i`` reads the selected pot's timeline the same way.
 """
 from __future__ import annotations
 
@@ -21,11 +26,17 @@ from textual.app import App
 
 from mission.link.view import Commands, RobotView
 from tui.keys import BINDINGS, DRIVE
-from tui.messages import CommandRefused, SnapshotTaken
+from tui.history_marks import PEST_PATROLS, pot_marks
+from tui.messages import CommandRefused, HistoryRead, SnapshotTaken, TimelineRead
 from tui.screens.confirm import Confirm
 from tui.screens.main import MainScreen
+from tui.screens.timeline import Timeline
 
 POLL_HZ = 10.0
+HISTORY_S = 15.0
+"""How often the history is asked again besides a patrol's start, end and finished pots: rows are
+written off the robot's thread, and may land just after the pot's status came."""
+NO_HISTORY = "this link cannot read the robot's history"
 
 
 class Latest:
@@ -64,6 +75,8 @@ class ConsoleApp(App):
         self.main = MainScreen()
         self._twists = Latest()
         self._teleop_refusal: str | None = None
+        self._history_asks = Latest()
+        self._history_moment: tuple | None = None
 
     def get_default_screen(self) -> MainScreen:
         return self.main
@@ -71,11 +84,65 @@ class ConsoleApp(App):
     def on_mount(self) -> None:
         self.redraw()
         self.set_interval(1.0 / POLL_HZ, self.redraw)
+        if self.history_source is not None:
+            self.set_interval(HISTORY_S, self.ask_history)
 
     def redraw(self) -> None:
         """Pull the latest view and show it (also under the clear-map question)."""
         self.view = self.view_source()
         self.main.show(self.view)
+        moment = (self.view.mission_name, self.view.mission_state,
+                  sum(p.status in ("inspected", "failed", "skipped") for p in self.view.pots))
+        if moment != self._history_moment:  # a patrol started or ended, a pot was finished
+            self._history_moment = moment
+            self.ask_history()
+
+    # --- the patrol history (a worker thread, one question at a time) -------------------------
+    @property
+    def history_source(self):
+        """``commands.history`` (query, **args) -> (answer, error), or None: no history here."""
+        return getattr(self.commands, "history", None)
+
+    def ask_history(self) -> None:
+        """Ask the history again for the pot table (never waits: at most one question out)."""
+        if self.history_source is not None and self._history_asks.put((self.view.mission_name or None,)):
+            self._read_history()
+
+    def _ask(self, query: str, **args: Any) -> tuple[dict | None, str | None]:
+        try:
+            return self.history_source(query, **args)
+        except Exception as exc:  # a broken link must not take the console down
+            return None, f"history: {type(exc).__name__}: {exc}"
+
+    @work(thread=True, group="history")
+    def _read_history(self) -> None:
+        while (ask := self._history_asks.take()) is not None:
+            mission, = ask
+            args = {"mission": mission} if mission else {}
+            changes, _ = self._ask("changes", **args)
+            pests, _ = self._ask("pests", last=PEST_PATROLS, **args)
+            self.post_message(HistoryRead(changes, pests))
+
+    def on_history_read(self, message: HistoryRead) -> None:
+        if message.changes is None and message.pests is None:  # no answer: what was shown stays
+            return
+        table = self.main.pots_table
+        running = self.view.mission_state in ("running", "paused", "estop")
+        not_yet = [p.id for p in self.view.pots if p.status in ("pending", "active")] if running else []
+        table.set_marks(pot_marks(message.changes, message.pests, table.marks, not_yet))
+
+    @work(thread=True, group="history-timeline")
+    def _read_timeline(self, pot: str) -> None:
+        if self.history_source is None:
+            self.post_message(TimelineRead(pot, None, NO_HISTORY))
+            return
+        answer, error = self._ask("pot", pot=pot)
+        self.post_message(TimelineRead(pot, answer, error))
+
+    def on_timeline_read(self, message: TimelineRead) -> None:
+        for screen in self.screen_stack:
+            if isinstance(screen, Timeline) and screen.pot == message.pot:
+                screen.show_answer(message.answer, message.error)
 
     # --- talking to the robot (worker threads) ---------------------------------------------
     def _deliver(self, command: str, args: dict[str, Any]) -> str | None:
@@ -151,6 +218,17 @@ class ConsoleApp(App):
 
     def action_anomalies(self) -> None:
         self.main.pots_table.toggle_anomalies()
+
+    def action_select_pot(self, step: int) -> None:
+        self.main.pots_table.select_next(step)
+
+    def action_timeline(self) -> None:
+        pot = self.main.pots_table.selected_pot()
+        if pot is None:
+            self.notify("no pot to show: the mission has no pots", timeout=3)
+            return
+        self.push_screen(Timeline(pot))
+        self._read_timeline(pot)
 
     def action_clear_map(self) -> None:
         def answered(yes: bool | None) -> None:

@@ -14,7 +14,8 @@ panicked double tap must not un-stop the robot); releasing is a different, delib
 The view keys change only what the console shows, never the robot: ``+`` / ``-`` zoom the map
 (``=`` zooms in too, unshifted), ``h j k l`` pan it (west, south, north, east: vi's keys, since
 the arrows drive), ``t`` follows the robot (``f`` is the front camera), ``0`` fits the map
-again, ``a`` shows only the pots with anomalies in the pot table.
+again, ``a`` shows only the pots with anomalies in the pot table, ``[`` / ``]`` select the
+previous / next pot in it, and ``i`` opens the selected pot's timeline (the patrol history).
 """
 from __future__ import annotations
 
@@ -46,6 +47,7 @@ _gripper = Binding.Group("gripper")
 _camera = Binding.Group("camera")
 _zoom = Binding.Group("zoom", compact=True)
 _pan = Binding.Group("pan", compact=True)
+_select = Binding.Group("select pot", compact=True)
 
 ROBOT_KEYS: list[Binding] = [
     Binding("up", "drive('up')", "forward", priority=True, group=_drive),
@@ -74,6 +76,9 @@ VIEW_KEYS: list[Binding] = [
     Binding("t", "follow", "follow robot"),
     Binding("0", "fit", "fit map"),
     Binding("a", "anomalies", "pots with anomalies"),
+    Binding("left_square_bracket", "select_pot(-1)", "previous pot", key_display="[", group=_select),
+    Binding("right_square_bracket", "select_pot(1)", "next pot", key_display="]", group=_select),
+    Binding("i", "timeline", "pot timeline"),
 ]
 """What the console shows (the map's window, the pot table's filter)."""
 BINDINGS: list[Binding] = ROBOT_KEYS + VIEW_KEYS

@@ -19,3 +19,20 @@ class SnapshotTaken(Message):
     def __init__(self, camera: str, jpeg: bytes | None):
         super().__init__()
         self.camera, self.jpeg = camera, jpeg
+
+
+class HistoryRead(Message):
+    """The robot's history answered for the pot table: its ``changes`` and ``pests`` answers
+    (None each: no answer), for the patrol view it was asked about."""
+
+    def __init__(self, changes: dict | None, pests: dict | None):
+        super().__init__()
+        self.changes, self.pests = changes, pests
+
+
+class TimelineRead(Message):
+    """One pot's timeline came (``answer`` None: ``error`` says why not)."""
+
+    def __init__(self, pot: str, answer: dict | None, error: str | None):
+        super().__init__()
+        self.pot, self.answer, self.error = pot, answer, error

@@ -45,6 +45,56 @@ class Recorder:
         return cv2.imencode(".jpg", img)[1].tobytes()
 
 
+class HistoryRecorder(Recorder):
+    """A ``Recorder`` whose robot keeps a patrol history: ``history(query, **args)`` answers from
+    ``answers`` (query -> answer; ``pot`` -> {pot id: timeline}) as ``lupin serve`` does, or is
+    refused with ``refusal`` (a robot without a history). ``asked`` records every question."""
+
+    def __init__(self, answers: dict | None = None, refusal: str | None = None, **kw):
+        super().__init__(**kw)
+        self.answers, self.refusal = answers or {}, refusal
+        self.asked: list[tuple[str, dict]] = []
+
+    def history(self, query: str, **args) -> tuple[dict | None, str | None]:
+        with self._lock:
+            self.asked.append((query, args))
+        if self.refusal is not None:
+            return None, self.refusal
+        if query == "pot":
+            timeline = self.answers.get("pot", {}).get(args.get("pot"), [])
+            return {"pot": args.get("pot"), "timeline": timeline}, None
+        return self.answers.get(query), None
+
+
+def entry(patrol: int, day: int, status: str = "inspected", color: str | None = "red", blooms: int | None = 1,
+          bug: bool | None = False, anomalies: tuple[str, ...] = (), mission: str = "default-patrol") -> dict:
+    """One timeline entry as ``lupin serve`` sends it (``TimelineEntry.as_json``'s fields)."""
+    if status != "inspected":
+        color, blooms, bug = None, None, None
+    return {"patrol": patrol, "mission": mission, "robot": "mirte", "started_at": f"2025-05-{day:02d}T06:00:00Z",
+            "pot_id": "?", "seq": 1, "observed_at": f"2025-05-{day:02d}T06:01:00Z", "status": status,
+            "flower_color": color, "blooms": blooms, "bug": bug, "anomalies": list(anomalies)}
+
+
+def patrol_history() -> dict:
+    """The answers of a robot that patrolled ``default-patrol`` before (``patrolling_view`` is its
+    patrol #7): what changed so far (P01 pink -> red, P02 a new pest and 3 -> 2 blooms, P05
+    failed now) and the pest streaks (P01 three patrols running, P02 this one)."""
+    changes = {"after": {"id": 7}, "before": {"id": 6}, "changes": [
+        {"pot": "P01", "kind": "color", "before": "pink", "after": "red", "detail": "colour pink -> red"},
+        {"pot": "P02", "kind": "pest_new", "before": False, "after": True, "detail": "pest"},
+        {"pot": "P02", "kind": "blooms", "before": 3, "after": 2, "detail": "blooms 3 -> 2"},
+        {"pot": "P05", "kind": "failed", "before": "inspected", "after": "failed", "detail": "failed now"}]}
+    pests = {"last": 20, "mission": "default-patrol", "patrols": [7, 6, 5],
+             "pots": [{"pot_id": "P01", "pests": 3, "observed": 3, "streak": 3},
+                      {"pot_id": "P02", "pests": 1, "observed": 3, "streak": 1},
+                      {"pot_id": "P06", "pests": 1, "observed": 2, "streak": 0}]}
+    timeline = {"P02": [entry(5, 1, color="white", blooms=3), entry(6, 2, color="white", blooms=3),
+                        entry(7, 3, color="white", blooms=2, bug=True, anomalies=("bug",))],
+                "P03": [entry(5, 1), entry(6, 2, status="failed", anomalies=("unreachable",))]}
+    return {"changes": changes, "pests": pests, "pot": timeline}
+
+
 def idle_view() -> RobotView:
     return RobotView(robot="mirte", t=3.0, connected=True, battery_voltage=12.6, battery_percentage=38.5,
                      controllers={"pid_wheels_controller": "active", "mirte_base_controller": "active"})

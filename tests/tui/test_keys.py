@@ -30,6 +30,8 @@ EXPECTED = {  # key -> what it sends, written out by hand (not derived from tui.
     "w": [],
     # the view keys change what the console shows and send nothing (tests/tui/test_scale.py)
     "plus": [], "equals_sign": [], "minus": [], "h": [], "j": [], "k": [], "l": [], "t": [], "0": [], "a": [],
+    "left_square_bracket": [], "right_square_bracket": [],
+    "i": [],  # the pot's timeline: a history question, not a command (tests/tui/test_history.py); last, it opens a screen
 }
 
 
@@ -112,7 +114,8 @@ def test_every_binding_is_tested_here():
 def test_the_footer_shows_every_key_the_view_keys_on_a_line_of_their_own():
     chips = ["↑↓ drive", "←→ strafe", "q e turn", "space E-STOP", "u release e-stop", "r resume", "m mission",
              "p pause", "c clear map", "123456 arm", "o g gripper", "f w camera", "^q quit",
-             "+- zoom", "hjkl pan", "t follow robot", "0 fit map", "a pots with anomalies"]
+             "+- zoom", "hjkl pan", "t follow robot", "0 fit map", "a pots with anomalies", "[] select pot",
+             "i pot timeline"]
     for width, lines in ((160, 2), (100, 3)):
         seen = {}
         console(patrolling_view, [lambda app: seen.update(text=app.main.query_one("#keys").text.plain)],
