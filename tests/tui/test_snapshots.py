@@ -3,7 +3,8 @@ regenerate with ``pytest tests/tui --snapshot-update`` and look at the SVGs befo
 Deterministic: fixed terminal sizes, hand-made views, nothing time-dependent on screen."""
 from __future__ import annotations
 
-from tests.tui.fakes import Recorder, estopped_view, greenhouse_view, idle_view, patrolling_view
+from tests.tui.fakes import (HistoryRecorder, Recorder, estopped_view, greenhouse_view, idle_view, patrol_history,
+                             patrolling_view)
 from tui.app import make_app
 
 SIZE = (160, 48)
@@ -42,3 +43,28 @@ def test_following_the_robot_zoomed_in(snap_compare):
 
 def test_pots_with_anomalies_only(snap_compare):
     assert snap_compare(make_app(greenhouse_view, Recorder()), press=["a"], terminal_size=SIZE)
+
+
+def settled(*keys):
+    """Press ``keys``, then wait for what they asked the robot (the history's answers)."""
+    async def run(pilot):
+        await pilot.pause()
+        for key in keys:
+            await pilot.press(key)
+            await pilot.app.workers.wait_for_complete()
+            await pilot.pause()
+        await pilot.app.workers.wait_for_complete()
+        await pilot.pause()
+    return run
+
+
+def test_patrolling_with_history(snap_compare):
+    """The pot table with the history's columns: since the last patrol, the pest streak."""
+    assert snap_compare(make_app(patrolling_view, HistoryRecorder(patrol_history())), terminal_size=SIZE,
+                        run_before=settled())
+
+
+def test_a_pots_timeline(snap_compare):
+    """P02 picked with ``[`` (from P03, in progress), its timeline opened with ``i``."""
+    assert snap_compare(make_app(patrolling_view, HistoryRecorder(patrol_history())), terminal_size=SIZE,
+                        run_before=settled("left_square_bracket", "i"))
