@@ -167,11 +167,11 @@ class CollisionMonitor:
         return float(t[np.argmax(touching)]) if touching.any() else None
 
     def _note(self, verdict: Verdict) -> None:
-        """Log each change of action once (the status bar shows the current one)."""
+        """Log each change of action once: a stop (or going blind) as a warning, slowing and
+        clearing at debug level (a patrol slows near things all day; the status bar and the
+        report's encounters show it)."""
         if verdict.action != self.verdict.action:
-            if verdict.action == NONE:
-                self.log.info("collision monitor: clear")
-            else:
-                self.log.warning("collision monitor: %s (scale %.2f, nearest %.2f m)",
-                                 verdict.action, verdict.scale, verdict.nearest)
+            level = logging.WARNING if verdict.holding else logging.DEBUG
+            self.log.log(level, "collision monitor: %s (scale %.2f, nearest %.2f m)",
+                         verdict.action, verdict.scale, verdict.nearest)
         self.verdict = verdict
