@@ -5,9 +5,9 @@ back (ping-pong), from ``start`` seconds on. It does not yield to the robot, exc
 stops while its next step would bring its body within ``KEEP_CLEAR`` of the robot's (people do
 not walk into a machine) and goes on when that is clear. Its body for that rule (and for the
 judges' clearance) is what it stands on the floor with at the robot's height, its legs and
-its cart (``footprint_gap``); the robot's is the ``ROBOT_RADIUS`` circle. The motion is advanced with the drive's
-``pre_chunk`` beat (every 10 ms of sim time) from the sim's own state only: no randomness, so
-the same world and seed give the same walk. ``hold`` stops and starts a walker (events).
+its cart (``footprint_gap``); the robot's is the ``ROBOT_RADIUS`` circle. The motion is
+advanced with the engine's ``pre_chunk`` beat (every 10 ms of sim time) from the sim's own
+state only: no randomness, so the same world and seed give the same walk. ``hold`` stops and starts a walker (events).
 """
 from __future__ import annotations
 
@@ -56,8 +56,8 @@ class _Walk:
 
 def footprint_gap(cx: float, cy: float, heading: float, half: float, x: float, y: float) -> float:
     """Distance from (x, y) to a walker's floor footprint: its legs (and the cart it pushes),
-    the parts at the robot's height (the torso starts at 0.86 m, above the robot). A walker at
-    (cx, cy) facing ``heading``, half as wide as ``half`` * 2."""
+    the parts at the robot's height (the torso starts at 0.86 m, above the robot), for a walker
+    at (cx, cy) facing ``heading`` whose shoulders are ``2 * half`` wide. Negative inside."""
     c, s = math.cos(heading), math.sin(heading)
     dx, dy = x - cx, y - cy
     along, across = c * dx + s * dy, -s * dx + c * dy
@@ -73,7 +73,6 @@ class SimWalkers:
     def __init__(self, engine: Engine, walkers, robot_xy):
         """``robot_xy()``: the robot's true position (the rule needs where the machine is)."""
         self.engine, self.robot_xy = engine, robot_xy
-        self.ids = [w.id for w in walkers]
         self._walks = {}
         for w in walkers:
             path = np.asarray(w.path, dtype=float)
