@@ -49,7 +49,8 @@ def test_each_kind_of_change_in_a_few_characters():
 def test_a_pot_with_several_changes_names_the_most_telling_and_counts_the_rest():
     changes = {"changes": [{"pot": "P01", "kind": "blooms", "before": 1, "after": 2},
                            {"pot": "P01", "kind": "color", "before": "red", "after": "pink"},
-                           {"pot": "P01", "kind": "pest_new"}, {"pot": "P02", "kind": "blooms", "before": 2, "after": 1}]}
+                           {"pot": "P01", "kind": "pest_new"},
+                           {"pot": "P02", "kind": "blooms", "before": 2, "after": 1}]}
     assert since_texts(changes) == {"P01": "pest new +2", "P02": "bloom 2→1"}
     assert since_texts(None) == {} and since_texts({"changes": None}) == {}
 

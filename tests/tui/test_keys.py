@@ -31,7 +31,7 @@ EXPECTED = {  # key -> what it sends, written out by hand (not derived from tui.
     # the view keys change what the console shows and send nothing (tests/tui/test_scale.py)
     "plus": [], "equals_sign": [], "minus": [], "h": [], "j": [], "k": [], "l": [], "t": [], "0": [], "a": [],
     "left_square_bracket": [], "right_square_bracket": [],
-    "i": [],  # the pot's timeline: a history question, not a command (tests/tui/test_history.py); last, it opens a screen
+    "i": [],  # the pot's timeline: a history question, not a command (tests/tui/test_history.py); last: a screen
 }
 
 
