@@ -34,7 +34,8 @@ def test_the_console_reads_a_served_history(tmp_path):
     history = open_history(str(tmp_path / "h.db"))
     add_patrol(history, [obs("P01", bug=True), obs("P02")], started=T0)
     add_patrol(history, [obs("P01", bug=True), obs("P02", blooms=4)], started=T0 + timedelta(hours=6))
-    config = with_overrides(LupinConfig(), {"sim": {"realtime": True}})
+    # a loaded machine (two real-time sims on two cores) can keep the loop from a command for 2 s
+    config = with_overrides(LupinConfig(), {"sim": {"realtime": True}, "link": {"command_timeout": 10.0}})
     world = load_default_world()
     service = start_sim_service(world, config, tmp_path / "runs", time.perf_counter, history=history)
     endpoint = free_endpoint()
