@@ -63,3 +63,15 @@ def _fail_if_built(item: pytest.Item, built: list[str], what: str) -> None:
     if built:
         pytest.fail(f"{item.nodeid}: {what} a MuJoCo model (MjModel.{built[0]}) but is not marked slow: "
                     "add pytestmark = pytest.mark.slow (or @pytest.mark.slow)", pytrace=False)
+
+
+@pytest.fixture(autouse=True, scope="session")
+def _no_shared_history():
+    """Patrols run by tests record no history unless a test names a database: by default a patrol
+    records into ./lupin-history.db and reports its changes against the previous patrol of the
+    mission, which, shared by tests running in parallel, would make each report depend on the
+    others. The history's own tests set ``--history`` or ``LUPIN_HISTORY__URL`` themselves."""
+    import os
+
+    os.environ.setdefault("LUPIN_HISTORY__URL", "none")
+    yield
