@@ -18,8 +18,8 @@ one at the north end and one every ``DOOR_SPACING`` metres between: the robot cr
 to bay through the cross aisles, so a long greenhouse is also a test of planning through
 doorways and of SLAM in rooms joined by narrow gaps.
 
-With ``walkers`` K, K people walk the aisles: each along one aisle between two rows (or the
-north aisle), from the row's first pot to past its last, at a seeded walking speed with a
+With ``walkers`` K, K people walk the aisles: each along its own aisle between two rows (or
+the north aisle), from the row's first pot to past its last, at a seeded walking speed with a
 pause at each end and a staggered start (never the south aisle the robot starts in, so no one
 stands on the spawn).
 
@@ -140,13 +140,17 @@ def generate_world(rows: int, pots_per_row: int, seed: int, name: str | None = N
 
 def _walkers(count: int, rows: int, bays: int, bay_length: float, pots_per_row: int, floor_y: float,
              rng: random.Random) -> list[Walker]:
-    """``count`` people, each walking one aisle of one bay end to end (its own random stream, so
-    adding walkers never changes the pots)."""
+    """``count`` people, each walking its own aisle of a bay end to end (people do not walk
+    through each other, and two pacing one 0.8 m aisle would close it for good); its own random
+    stream, so adding walkers never changes the pots."""
     aisles = [FIRST_ROW_Y + (r + 0.5) * ROW_PITCH for r in range(rows - 1)]
     aisles.append(round((FIRST_ROW_Y + (rows - 1) * ROW_PITCH + floor_y) / 2, 3))  # the north aisle
+    slots = [(bay, y) for bay in range(bays) for y in aisles]
+    if count > len(slots):
+        raise InputError(f"at most {len(slots)} walkers in {bays} bay(s) of {rows} rows: one per aisle "
+                         f"(got {count})")
     out = []
-    for k in range(count):
-        bay, y = rng.randrange(bays), rng.choice(aisles)
+    for k, (bay, y) in enumerate(rng.sample(slots, count)):
         x0 = bay * bay_length + FIRST_POT_X
         x1 = x0 + (pots_per_row - 1) * POT_PITCH + 0.8
         out.append(Walker(id=f"W{k + 1}", path=[[round(x0, 3), y], [round(x1, 3), y]],

@@ -5,7 +5,7 @@ then the stop, slowdown and approach verdict on a twist), on real MuJoCo scans o
 greenhouse taken at poses along the aisles, with a person standing in the aisle ahead in half
 of them, for forward, sideways and turning twists: median and p95 per scan (goal <= 0.5 ms).
 
-``safety.people``: whole patrols of generated greenhouses (4 rows x 5 pots) with ``WALKERS``
+``safety.people``: whole patrols of generated greenhouses (4 rows x 5 pots, four aisles) with ``WALKERS``
 people walking the aisles, seed after seed, until at least ``MIN_ENCOUNTERS`` encounters (a
 stretch of the monitor stopping or slowing the base, the report's ``people``) have been
 counted; every patrol counts. Judged on ground truth (``mission.jobs.people_log``): contacts
@@ -39,7 +39,7 @@ POSES = [(x, y, yaw) for x in (2.5, 3.5, 4.5) for y, yaw in ((0.5, 0.0), (2.5, m
 TWISTS = [Twist(0.4, 0.0, 0.0), Twist(0.0, 0.3, 0.0), Twist(0.3, 0.1, 0.6), Twist(0.1, 0.0, 0.0)]
 REPEATS = 50
 
-WALKERS = 6
+WALKERS = 3
 MIN_ENCOUNTERS = 100
 MAX_WORLDS = 40
 """Seeds tried at most (a run that cannot reach MIN_ENCOUNTERS says so rather than running on)."""

@@ -75,13 +75,17 @@ def test_walker_ids_are_unique():
 
 
 def test_generated_walkers_walk_aisles_clear_of_the_spawn_and_leave_the_pots_alone():
-    plain, peopled = generate_world(4, 6, seed=5), generate_world(4, 6, seed=5, walkers=6)
+    plain, peopled = generate_world(4, 6, seed=5), generate_world(4, 6, seed=5, walkers=4)
     assert plain.pots == peopled.pots and not plain.walkers
-    assert [w.id for w in peopled.walkers] == [f"W{k}" for k in range(1, 7)]
+    assert [w.id for w in peopled.walkers] == [f"W{k}" for k in range(1, 5)]
+    assert len({w.path[0][1] for w in peopled.walkers}) == 4  # one per aisle
     for w in peopled.walkers:
         (x0, y0), (x1, y1) = w.path
         assert y0 == y1 and x1 > x0 + 4.0  # along a whole aisle
         assert y0 > 1.0  # never the south aisle the robot starts in
-    assert generate_world(4, 6, seed=5, walkers=6).walkers == peopled.walkers
+    assert generate_world(4, 6, seed=5, walkers=4).walkers == peopled.walkers
     with pytest.raises(InputError, match="walkers must be a whole number from 0 to 50"):
         generate_world(4, 6, seed=5, walkers=51)
+    with pytest.raises(InputError, match=r"at most 4 walkers in 1 bay\(s\) of 4 rows: one per aisle \(got 5\)"):
+        generate_world(4, 6, seed=5, walkers=5)
+    assert len(generate_world(4, 6, seed=5, bays=2, walkers=8).walkers) == 8
