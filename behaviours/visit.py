@@ -40,6 +40,6 @@ class PotVisit:
     """Step -> why it failed ('approach', 'search', 'arm', 'wrist', 'front')."""
     done: bool = False
     """The pot's branch has finished (inspected or failed) and been recorded."""
-    deferred: bool = False
-    """Its approach was blocked (something stood in the way past the navigator's wait): the
-    patrol comes back to it after the other pots instead of failing it."""
+    deferred: str = ""
+    """Why its first go could not get there (empty: it did, or has not been tried): the patrol
+    comes back to it after the other pots instead of failing it at once."""

@@ -105,6 +105,7 @@ class PatrolRun:
     def finish(self, outcome: str, reason: str = "") -> dict:
         """The end of a run: SLAM's map, the picture, and the report's final write."""
         self.robot.scheduler.cancel("patrol.trace")
+        self.robot.scheduler.cancel("patrol.encounters")
         occupancy = final_map(self.nav, self.robot.scheduler)
         directory = self.report.directory
         if occupancy is not None:

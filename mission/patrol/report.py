@@ -7,7 +7,8 @@ there, reference/upstream.md):
 ==================  ==========================================================================
 kind                when
 ==================  ==========================================================================
-unreachable         every navigation attempt failed; the pot is ``failed``
+unreachable         every navigation attempt failed, after the others too; the pot is ``failed``
+retried_later       the first go could not get there (why), the go after the other pots did
 arm_unavailable     the arm could not take the pot's inspection pose (latched servo, inactive
                     controller): the flower is unknown, the tag is still read
 no_image            a camera gave no fresh frame in time (the step is recorded without it)
@@ -100,6 +101,8 @@ class PatrolReport:
             anomalies.append(("not_found", visit.failures["search"]))
         elif not inspected:
             anomalies.append(("unreachable", f"{visit.attempts} attempt(s): {visit.failures.get('approach', '')}"))
+        elif visit.deferred:
+            anomalies.append(("retried_later", f"inspected after the other pots; the first go: {visit.deferred}"))
         if visit.moved:
             x, y, facing = visit.located
             off = math.hypot(x - pot.x, y - pot.y)

@@ -290,7 +290,7 @@ class PatrolTree:
 
         def pot_failed() -> None:
             if not later and "search" not in visit.failures:
-                visit.deferred, visit.arrived = True, None
+                visit.deferred, visit.arrived = why(approach), None
                 visit.failures.clear()
                 return
             if "search" not in visit.failures:

@@ -53,7 +53,9 @@ class SimLink:
 def runtime(tmp_path: Path):
     """A real-time sim service with its link server, stepping on its own thread, once its
     control loop beats."""
-    config = with_overrides(LupinConfig(), {"sim": {"realtime": True}})
+    # a real-time runtime on a loaded machine (two of them under xdist) can fall a few seconds
+    # behind: the tests judge what a command does, not how fast it is answered
+    config = with_overrides(LupinConfig(), {"sim": {"realtime": True}, "link": {"command_timeout": 8.0}})
     service = start_sim_service(load_default_world(), config, tmp_path / "runs", time.perf_counter)
     endpoint = free_endpoint()
     link = SimLink(service, LinkServer(service, config.link, TOKEN, endpoint), endpoint)
@@ -72,6 +74,6 @@ def runtime(tmp_path: Path):
 
 
 def client(endpoint: str, token: str = TOKEN) -> LinkClient:
-    c = LinkClient(endpoint, "mirte", token)
+    c = LinkClient(endpoint, "mirte", token, timeout=10.0)
     assert wait_for(lambda: c.view().connected), "no telemetry"
     return c

@@ -21,12 +21,12 @@ def test_serve_prints_its_token_answers_a_console_and_stops_on_sigterm(tmp_path)
     endpoint = free_endpoint()
     lupin = str(Path(sys.executable).parent / "lupin")
     proc = subprocess.Popen([lupin, "serve", "--listen", endpoint, "--runs", str(tmp_path)],
-                            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True, env={**os.environ, "LUPIN_LINK__TOKEN": ""})
+                            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True, env={**os.environ, "LUPIN_LINK__TOKEN": "", "LUPIN_LINK__COMMAND_TIMEOUT": "8"})
     try:
         line = proc.stdout.readline()
         assert f"on {endpoint}" in line and "operator token" in line
         token = line.rsplit(" ", 1)[-1].strip()
-        c = LinkClient(endpoint, "mirte", token)
+        c = LinkClient(endpoint, "mirte", token, timeout=10.0)
         try:
             assert wait_for(lambda: c.view().connected and c.view().controllers, 20)
             assert c.send("arm_preset", name="tuck") is None

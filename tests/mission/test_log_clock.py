@@ -31,6 +31,9 @@ def test_pause_and_resume_say_the_time_the_log_line_is_stamped_with():
     logger = logging.getLogger("mission.patrol.holds")
     logger.addHandler(handler)
     level, logger.level = logger.level, logging.INFO
+    disabled, logger.disabled = logger.disabled, False
+    muted = logging.root.manager.disable  # a library run earlier in this process may have muted logging
+    logging.disable(logging.NOTSET)
     try:
         holds.pause()
         clock[0] = 90.2
@@ -38,6 +41,8 @@ def test_pause_and_resume_say_the_time_the_log_line_is_stamped_with():
     finally:
         logger.removeHandler(handler)
         logger.setLevel(level)
+        logger.disabled = disabled
+        logging.disable(muted)
     assert len(posts.lines) == 2
     for line in posts.lines:
         stamp = float(line.split()[0])

@@ -48,7 +48,9 @@ def test_broken_controller_at_boot_means_no_drive(controller):
 
 
 def test_a_placed_box_stops_the_chassis_while_the_wheels_spin_on():
-    sim, robot = assemble(open_floor(spawn=(2.0, 3.0, 0.0)))
+    """The sim's contact physics, so with the collision monitor off (it would stop the wheels
+    short of the box: the next test)."""
+    sim, robot = assemble(open_floor(spawn=(2.0, 3.0, 0.0)), LUPIN_HW__COLLISION_MONITOR__ENABLED="false")
     sim.faults.place_box(3.0, 3.0, 0.3, 0.6)
     robot.scheduler.run_until(0.2)
     lx = sim.engine.data.site_xpos[sim.lidar._site][0]
@@ -58,3 +60,17 @@ def test_a_placed_box_stops_the_chassis_while_the_wheels_spin_on():
     odom_dx = robot.base.odometry.pose.x
     assert truth_dx < 0.85 - 0.15 + 0.02  # chassis front (~0.17 m) stopped at the box face
     assert odom_dx > truth_dx + 0.3  # the wheels kept turning: odometry ran away from truth
+
+
+def test_the_collision_monitor_stops_the_robot_short_of_the_box():
+    """Driven straight at a box, every tick, through the mux: the monitor zeroes the twist with
+    the box inside the stop box, before the chassis touches it; the wheels do not spin on."""
+    sim, robot = assemble(open_floor(spawn=(2.0, 3.0, 0.0)))
+    sim.faults.place_box(3.0, 3.0, 0.3, 0.6)
+    robot.scheduler.run_until(0.2)
+    _drive(robot, 8.0)
+    gap = 2.85 - sim.truth().x - 0.22  # box face to the footprint's front
+    assert 0.0 < gap <= 0.08 + 0.03  # stopped in the stop box's 8 cm, not on the box
+    assert not [n for n in sim.touching() if n.startswith("spare_box")]
+    assert abs(robot.base.odometry.pose.x - (sim.truth().x - 2.0)) < 0.03  # no wheel spin against it
+    assert robot.monitor.verdict.action == "stop"
