@@ -9,9 +9,11 @@ checked here against the newest raw scan, on its own: no costmap, no SLAM, no pl
 Three rules, as Nav2 names them, each judged in the direction the base is commanded to move
 (this base drives sideways as readily as forwards, so a zone "in front" turns with the twist):
 
-- **stop**: ``min_points`` or more scan points in the stop zone, a box from the base centre
-  ``length`` metres along the direction of travel and ``half_width`` to either side -> the
-  linear part of the twist is zeroed (turning on the spot sweeps nothing new with a circular
+- **stop**: ``min_points`` or more scan points in the stop zone -> the linear part of the twist
+  is zeroed. The zone is what the footprint would sweep in the next ``length - radius`` metres
+  (8 cm) of straight travel, within a box ``length`` ahead and ``half_width`` to either side:
+  a pot's rim diagonally ahead that the robot will pass by is not in it (the box's corners
+  stopped the 180-pot patrol 177 times at its pots, 8 % of its robot time) (turning on the spot sweeps nothing new with a circular
   footprint, so it stays allowed and lets the planner look for another way);
 - **slowdown**: points in the larger slowdown box -> the whole twist is scaled so the linear
   speed is at most ``slowdown.speed``;
@@ -136,13 +138,17 @@ class CollisionMonitor:
         ahead = along > 0.0
         nearest = float(np.hypot(p[ahead, 0], p[ahead, 1]).min()) if ahead.any() else math.inf
 
-        def in_box(zone) -> int:
-            return int(np.count_nonzero(ahead & (along < zone.length) & (across < zone.half_width)))
+        def in_box(zone) -> np.ndarray:
+            return ahead & (along < zone.length) & (across < zone.half_width)
 
-        if in_box(c.stop) >= c.min_points:
+        # the stop box's points the footprint would touch within its last (length - radius) metres
+        # of straight travel: its corners, beside that stadium, are things the robot passes by
+        sweep = c.stop.length - self.radius
+        swept = np.hypot(np.maximum(along - sweep, 0.0), across) < self.radius
+        if np.count_nonzero(in_box(c.stop) & swept) >= c.min_points:
             return Verdict(STOP, 0.0, nearest)
         scale, action = 1.0, NONE
-        if in_box(c.slowdown) >= c.min_points and speed > c.slowdown.speed:
+        if np.count_nonzero(in_box(c.slowdown)) >= c.min_points and speed > c.slowdown.speed:
             scale, action = c.slowdown.speed / speed, SLOWDOWN
         hit = self._time_to_collision(twist, p[ahead & (along < speed * c.approach.time_before_collision
                                                          + self.radius + c.approach.time_step * speed)])

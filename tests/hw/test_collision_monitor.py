@@ -83,8 +83,17 @@ def test_the_stop_zone_edge_ahead(along, stopped):
 
 @pytest.mark.parametrize("across, stopped", [(0.215, True), (0.225, False)])
 def test_the_stop_zone_edge_to_the_side(across, stopped):
-    m, _ = monitor(np.stack([np.linspace(0.25, 0.28, 5), np.full(5, across)], axis=1))
+    """Beside the first 8 cm ahead the zone is as wide as the footprint."""
+    m, _ = monitor(np.stack([np.linspace(0.03, 0.07, 5), np.full(5, across)], axis=1))
     assert (m.filter(Twist(0.05, 0.0, 0.0), 0.05).vx == 0.0) is stopped
+
+
+def test_a_point_diagonally_ahead_that_the_footprint_passes_by_does_not_stop_it():
+    """(0.28, 0.18): inside the 0.30 x 0.22 box, but 0.27 m from where the footprint's centre
+    gets in 8 cm, so going straight it passes 5 cm clear (the approach mode slows for it)."""
+    m, _ = monitor(np.stack([np.full(5, 0.28), np.linspace(0.17, 0.19, 5)], axis=1))
+    out = m.filter(Twist(0.1, 0.0, 0.0), 0.05)
+    assert m.verdict.action != STOP and out.vx > 0.0
 
 
 def test_fewer_than_min_points_is_noise():
