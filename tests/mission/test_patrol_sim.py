@@ -6,6 +6,7 @@ and, read from the sim for judging only, where the robot and the arm ended up.
 from __future__ import annotations
 
 import json
+import os
 import math
 import time
 from dataclasses import dataclass
@@ -116,7 +117,8 @@ def test_the_report_directory_holds_map_config_and_picture(default_patrol):
     x, y = world.pots[0].x - world.spawn.x, world.pots[0].y - world.spawn.y  # P01, map frame
     ix, iy = m.geometry.cell_of(x, y)
     assert (m.occupancy[iy - 3:iy + 4, ix - 3:ix + 4] == 100).any()
-    assert load_config((p.directory / "config.yaml")) == load_config(env={"LUPIN_SIM__SEED": "0"})
+    assert load_config((p.directory / "config.yaml")) == load_config(
+        env={"LUPIN_SIM__SEED": "0", "LUPIN_HISTORY__URL": os.environ["LUPIN_HISTORY__URL"]})  # tests record no history
     tree = (p.directory / "tree.txt").read_text().splitlines()
     assert tree[0] == "-^- Lupin patrol [✓]"  # the e-stop guard at the root: ended, and not ticked over again by the map's last steps
     assert sum("--> record P" in line and "[✓]" in line for line in tree) == len(world.pots)
