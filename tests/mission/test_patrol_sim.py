@@ -6,8 +6,8 @@ and, read from the sim for judging only, where the robot and the arm ended up.
 from __future__ import annotations
 
 import json
-import os
 import math
+import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
