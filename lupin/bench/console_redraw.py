@@ -15,6 +15,7 @@ import time
 import numpy as np
 
 from lupin.bench import Sample, benchmark
+from lupin.bench.link import NullLink
 from mission.runtime.config import LupinConfig
 
 POTS = 200
@@ -66,17 +67,10 @@ def redraw_large(config: LupinConfig) -> Sample:
 
     view = large_view()
 
-    class Null:
-        def send(self, command, /, **args):
-            return None
-
-        def snapshot(self, camera):
-            return None
-
     times: list[float] = []
 
     async def go() -> None:
-        app = make_app(lambda: view, Null())
+        app = make_app(lambda: view, NullLink())
         async with app.run_test(size=(160, 48)) as pilot:
             await pilot.pause()
             for i in range(FRAMES):

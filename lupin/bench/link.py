@@ -115,6 +115,16 @@ def _stderr(msg: str) -> None:
     print(msg, file=sys.stderr, flush=True)
 
 
+class NullLink:
+    """A link that answers every command at once: the console's redraw alone is timed."""
+
+    def send(self, command, /, **args):
+        return None
+
+    def snapshot(self, camera):
+        return None
+
+
 @benchmark("link.estop")
 def estop(config: LupinConfig) -> Sample:
     with live_runtime(config) as (service, server, endpoint):
@@ -239,17 +249,10 @@ def redraw(config: LupinConfig) -> Sample:
                      scan=rng.random((250, 2)) * 6.0, tree="\n".join(f"--> step {i} [*]" for i in range(60)),
                      mission_state="running")
 
-    class Null:
-        def send(self, command, /, **args):
-            return None
-
-        def snapshot(self, camera):
-            return None
-
     times: list[float] = []
 
     async def go() -> None:
-        app = make_app(lambda: view, Null())
+        app = make_app(lambda: view, NullLink())
         async with app.run_test(size=(160, 48)) as pilot:
             for i in range(60):
                 view.pose = (5.0 + 0.01 * i, 5.0, 0.1 * i)
