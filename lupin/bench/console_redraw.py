@@ -9,13 +9,12 @@ one poll (``app.redraw()``) plus Textual's render of the screen, at 160 x 48.
 """
 from __future__ import annotations
 
-import asyncio
 import time
 
 import numpy as np
 
 from lupin.bench import Sample, benchmark
-from lupin.bench.link import NullLink
+from lupin.bench.link import timed_redraws
 from mission.runtime.config import LupinConfig
 
 POTS = 200
@@ -63,31 +62,19 @@ def large_view():
 
 @benchmark("link.redraw_large")
 def redraw_large(config: LupinConfig) -> Sample:
-    from tui.app import make_app
-
     view = large_view()
 
-    times: list[float] = []
+    def step(i: int) -> None:
+        view.pose = (5.0 + 0.01 * i, 5.0, 0.1 * i)
+        if i % 5 == 0:  # a pot finished every fifth frame: table, map marks and tree change
+            k = 100 + i // 5
+            view.pots[k].status = "inspected"
+            if k % 7 == 0:
+                view.pots[k].anomalies = ["no_bloom"]
+            view.pots[k + 1].status = "active"
+            view.tree = patrol_tree([p.status for p in view.pots])
 
-    async def go() -> None:
-        app = make_app(lambda: view, NullLink())
-        async with app.run_test(size=(160, 48)) as pilot:
-            await pilot.pause()
-            for i in range(FRAMES):
-                view.pose = (5.0 + 0.01 * i, 5.0, 0.1 * i)
-                if i % 5 == 0:
-                    k = 100 + i // 5
-                    view.pots[k].status = "inspected"
-                    if k % 7 == 0:
-                        view.pots[k].anomalies = ["no_bloom"]
-                    view.pots[k + 1].status = "active"
-                    view.tree = patrol_tree([p.status for p in view.pots])
-                t0 = time.perf_counter()
-                app.redraw()
-                await pilot.pause()
-                times.append((time.perf_counter() - t0) * 1000.0)
-
-    asyncio.run(go())
+    times = timed_redraws(view, FRAMES, step)
     ms = float(np.median(times[5:]))
     return Sample(times[5:], {"hz": round(1000.0 / ms, 1), "pots": POTS, "tree_lines": view.tree.count("\n") + 1,
                               "terminal": "160x48"})

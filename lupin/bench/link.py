@@ -14,6 +14,7 @@ from its 100 ms beat, without and with a console attached and reading.
 """
 from __future__ import annotations
 
+import asyncio
 import sys
 import tempfile
 import threading
@@ -113,6 +114,28 @@ def press_trials(trials: int, drive: Callable[[], bool], press: Callable[[], flo
 
 def _stderr(msg: str) -> None:
     print(msg, file=sys.stderr, flush=True)
+
+
+def timed_redraws(view, frames: int, step) -> list[float]:
+    """Wall ms of each of ``frames`` console redraws (and the pause that paints it) of ``view``
+    in a 160 x 48 terminal, ``step(i)`` changing the view before frame i."""
+    from tui.app import make_app
+
+    times: list[float] = []
+
+    async def go() -> None:
+        app = make_app(lambda: view, NullLink())
+        async with app.run_test(size=(160, 48)) as pilot:
+            await pilot.pause()
+            for i in range(frames):
+                step(i)
+                t0 = time.perf_counter()
+                app.redraw()
+                await pilot.pause()
+                times.append((time.perf_counter() - t0) * 1000.0)
+
+    asyncio.run(go())
+    return times
 
 
 class NullLink:
@@ -234,10 +257,7 @@ def _p95_dev(ticks: list[float], config: LupinConfig) -> float:
 def redraw(config: LupinConfig) -> Sample:
     """The console's full redraw (every panel from a new view, then Textual's render of the
     screen) with a 400 x 400 map and costmap, a plan, 12 pots and a scan, at 160 x 48."""
-    import asyncio
-
     from mission.link.view import GridView, PotView, RobotView
-    from tui.app import make_app
 
     rng = np.random.default_rng(0)
     occ = np.where(rng.random((400, 400)) < 0.1, 100, 0).astype(np.int8)
@@ -249,18 +269,9 @@ def redraw(config: LupinConfig) -> Sample:
                      scan=rng.random((250, 2)) * 6.0, tree="\n".join(f"--> step {i} [*]" for i in range(60)),
                      mission_state="running")
 
-    times: list[float] = []
+    def step(i: int) -> None:
+        view.pose = (5.0 + 0.01 * i, 5.0, 0.1 * i)
 
-    async def go() -> None:
-        app = make_app(lambda: view, NullLink())
-        async with app.run_test(size=(160, 48)) as pilot:
-            for i in range(60):
-                view.pose = (5.0 + 0.01 * i, 5.0, 0.1 * i)
-                t0 = time.perf_counter()
-                app.redraw()
-                await pilot.pause()
-                times.append((time.perf_counter() - t0) * 1000.0)
-
-    asyncio.run(go())
+    times = timed_redraws(view, 60, step)
     ms = float(np.median(times[5:]))
     return Sample(times[5:], {"hz": round(1000.0 / ms, 1), "map_cells": 400 * 400, "terminal": "160x48"})
