@@ -9,8 +9,6 @@ one poll (``app.redraw()``) plus Textual's render of the screen, at 160 x 48.
 """
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
 from lupin.bench import Sample, benchmark

@@ -1,6 +1,8 @@
 """Hand-made views, a recording ``Commands`` and a Pilot driver for the console's tests."""
 from __future__ import annotations
 
+import time
+
 import asyncio
 import threading
 from typing import Callable
@@ -256,3 +258,11 @@ def greenhouse_view(pots: int = 200, done: int = 120) -> RobotView:
     v.tree = patrol_tree([p.status for p in v.pots])
     v.log = [f"  40.0 I patrol two-bay started ({pots} pots)"]
     return v
+
+
+async def until(pilot, cond, timeout: float = 20.0) -> bool:
+    """Let the app run (Pilot pauses of 50 ms) until ``cond()`` or ``timeout`` wall seconds."""
+    end = time.monotonic() + timeout
+    while not cond() and time.monotonic() < end:
+        await pilot.pause(0.05)
+    return cond()

@@ -15,6 +15,7 @@ import pytest
 from mission.history.store import open_history
 from mission.link.client import LinkClient
 from tests.history.conftest import T0, add_patrol, obs
+from tests.tui.fakes import until
 from tui.app import make_app
 from tui.screens.timeline import Timeline
 
@@ -47,12 +48,6 @@ def test_the_console_reads_a_served_history(tmp_path):
     mission = mission_from_world(world).model_copy(update={"name": "m"})
     mission = json.loads(json.dumps(mission.model_copy(update={"pots": mission.pots[:2]}).model_dump()))
     seen = {}
-
-    async def until(pilot, cond, timeout=20.0):
-        end = time.monotonic() + timeout
-        while not cond() and time.monotonic() < end:
-            await pilot.pause(0.05)
-        return cond()
 
     async def go():
         app = make_app(client.view, client)

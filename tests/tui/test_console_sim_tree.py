@@ -11,6 +11,7 @@ import pytest
 
 from mission.link.client import LinkClient
 from tests.link.sim_service import TOKEN, runtime  # noqa: F401  (runtime: the fixture)
+from tests.tui.fakes import until
 from tui.app import make_app
 from tui.widgets.mission_tree import running_line
 
@@ -25,12 +26,6 @@ def plain(app) -> list[str]:
 def test_the_real_tree_shows_its_running_branch_also_paused(runtime):
     client = LinkClient(runtime.endpoint, "mirte", TOKEN, timeout=10.0)
     seen = {}
-
-    async def until(pilot, cond, timeout):
-        end = time.monotonic() + timeout
-        while not cond() and time.monotonic() < end:
-            await pilot.pause(0.05)
-        return cond()
 
     async def go():
         app = make_app(client.view, client)
