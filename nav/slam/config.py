@@ -64,8 +64,10 @@ class SlamConfig(Strict):
     respawn_delay: float = Field(1.0, gt=0)
     """Seconds from a killed or crashed worker to its replacement (seed: respawn_delay 1.0)."""
     reply_timeout: float = Field(5.0, gt=0)
-    """Wall seconds without a reply after which a worker counts as wedged and is killed and
-    respawned: a wedged SLAM never stalls the control loop."""
+    """A worker that has not replied counts as wedged, and is killed and respawned, after this
+    many seconds without using any CPU (hung) or this many CPU seconds on one scan (spinning):
+    a wedged SLAM never stalls the control loop, and a worker only starved of CPU on a busy
+    machine keeps its map (``nav.slam.liveness``)."""
     startup_timeout: float = Field(30.0, gt=0)
     """Seconds a fresh worker may take to answer its first scan, in place of ``reply_timeout``:
     it starts a new interpreter and imports numpy, casadi and kiss-icp first (~0.5 s here,

@@ -26,6 +26,7 @@ import json
 import logging
 import subprocess
 import sys
+import time
 from multiprocessing.connection import Pipe
 from typing import Callable, Optional
 
@@ -35,8 +36,12 @@ from nav.frames import compose
 from nav.occupancy import OccupancyMap
 from nav.slam import worker
 from nav.slam.config import SlamConfig
+from nav.slam.liveness import Liveness
 
 log = logging.getLogger(__name__)
+
+_SLICE = 0.25
+"""Wall seconds a lock-step wait polls between looks at the worker's CPU time."""
 
 
 class SlamSupervisor:
@@ -60,6 +65,8 @@ class SlamSupervisor:
         self._conn = None
         self._pending: float | None = None
         """Runtime time the outstanding scan was sent at, None when none is."""
+        self._watch: Liveness | None = None
+        """Tells a wedged worker from a starved one while a scan is outstanding."""
         self._sent_stamp = -1.0
         self._respawn_at: float | None = 0.0
         self._answered = False
@@ -103,6 +110,7 @@ class SlamSupervisor:
         if want_map:
             self._next_map = now + self.cfg.map_update_interval
         self._pending, self._sent_stamp = now, scan.stamp
+        self._watch = Liveness(self._proc.pid, time.monotonic() if self.lockstep else now)
 
     def request_map(self) -> None:
         """Have the next exchange bring the map back, whatever the update interval (a map save)."""
@@ -141,13 +149,19 @@ class SlamSupervisor:
         self.spawned += 1
 
     def _collect(self, now: float) -> bool:
-        """Take the reply to the outstanding scan; False if there is none (yet)."""
+        """Take the reply to the outstanding scan; False if there is none (yet).
+
+        Lock-step waits (in wall-time slices) for as long as the worker is working, however
+        slowly; free-running looks once and judges the silence on the runtime clock."""
         limit = self.cfg.reply_timeout if self._answered else self.cfg.startup_timeout
         try:
-            if not self._conn.poll(limit if self.lockstep else 0.0):
-                if self.lockstep or now - self._pending >= limit:
-                    self._lost(now, f"no reply in {limit:g} s (wedged)")
-                return False
+            while not self._conn.poll(min(_SLICE, limit) if self.lockstep else 0.0):
+                why = self._watch.wedged(time.monotonic() if self.lockstep else now, limit)
+                if why is not None:
+                    self._lost(now, why + ", wedged")
+                    return False
+                if not self.lockstep:
+                    return False
             reply: worker.Reply = self._conn.recv()
         except (EOFError, OSError):
             self._lost(now, "it exited")
