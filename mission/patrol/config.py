@@ -51,6 +51,10 @@ class PatrolConfig(BaseModel):
     approach pose places its pot to about a centimetre, so an unmoved pot never trips it)."""
     moved_yaw: float = Field(0.15, gt=0)
     """... or turned by more than this, rad."""
+    drift_radius: float = Field(3.0, gt=0)
+    """Unmoved pots located within this of a pot (mission positions, m) say how far the map has
+    drifted there from the mission's frame (``mission.patrol.map_drift``): an aisle's worth of
+    neighbours at 1 m spacing, near enough that smooth SLAM drift is the same for them."""
     moved_approach_xy: float = Field(0.08, gt=0)
     """The approach again to a moved pot (or after a stop more than 1.5 times this off the
     approach pose) must end this close to it, m, not within the goal checker's 0.25 m: a pot

@@ -1,7 +1,8 @@
 """Pots found where they are, not where the mission says: their tags place them.
 
 At each pot the tag read at arrival gives the pot's pose (``mission.patrol.tag_sightings``).
-Off the mission's pose by more than ``moved_xy`` / ``moved_yaw``, the pot has moved: the robot
+Off the mission's pose by more than ``moved_xy`` / ``moved_yaw`` (beyond the map's local drift
+from the mission's frame, ``mission.patrol.map_drift``), the pot has moved: the robot
 approaches it again from where it is (the approach pose and the wrist's aim follow the tag), and
 the report says ``moved`` with the measured pose. With no tag at all where the pot should be, the
 pots the SLAM map shows within ``search_radius`` of the mission's position are looked at from
@@ -12,13 +13,14 @@ for the operator, not something to search past.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from behaviours.visit import PotVisit
 from hw.odometry import Pose2D
 from mission.approach import approach_pose
+from mission.patrol.map_drift import MapDrift
 from mission.patrol.config import PatrolConfig
 from mission.patrol.mission_file import Mission, MissionPot
 from mission.patrol.tag_sightings import pot_from_tag
@@ -39,6 +41,11 @@ class PotFinder:
     mission: Mission
     nav: Navigator
     config: PatrolConfig
+    drift: MapDrift = field(init=False)
+    """The map's drift from the mission's frame, read off the unmoved pots located so far."""
+
+    def __post_init__(self):
+        self.drift = MapDrift(self.config.drift_radius, self.config.moved_xy / 2)
 
     def own_tag(self, pot: MissionPot, reads: tuple[TagRead, ...], reach: float) -> TagRead | None:
         """The pot's own tag among ``reads``, read no farther than ``reach``."""
@@ -57,8 +64,12 @@ class PotFinder:
             return False
         s = pot_from_tag(read, robot, self.config.front_camera_mount, self.config.plate_offset)
         visit.located, visit.own_tag = (s.x, s.y, s.facing), read
-        off, turn = self.offset(pot, visit)
+        dx, dy = self.drift.near(pot.x, pot.y)
+        off = math.hypot(s.x - pot.x - dx, s.y - pot.y - dy)
+        turn = self.offset(pot, visit)[1]
         visit.moved = off > self.config.moved_xy or turn > self.config.moved_yaw
+        if not visit.moved:
+            self.drift.record((pot.x, pot.y), (s.x - pot.x, s.y - pot.y))
         return True
 
     def offset(self, pot: MissionPot, visit: PotVisit) -> tuple[float, float]:

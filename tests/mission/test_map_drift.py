@@ -1,0 +1,61 @@
+"""The moved test looks past the map's drift: unmoved pots along a row whose map has drifted
+several centimetres are not moved; a pot moved among them still is."""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from behaviours.visit import PotVisit
+from hw.odometry import Pose2D
+from mission.patrol.config import PatrolConfig
+from mission.patrol.map_drift import MapDrift
+from mission.patrol.mission_file import Mission, MissionPot
+from mission.patrol.pot_finder import PotFinder
+from tests.mission.test_tag_sightings import read
+
+CONFIG = PatrolConfig()
+ROW = [MissionPot(id=f"P{i:02d}", x=float(i), y=0.0, facing=math.pi / 2, tag=i) for i in range(20)]
+MISSION = Mission(name="row", pots=ROW)
+
+
+def drift_at(x: float) -> tuple[float, float]:
+    """SLAM's map off the mission's frame: 4.5 mm per metre along the row, 3.5 across it."""
+    return 0.0045 * x, -0.0035 * x
+
+
+def visit(finder: PotFinder, pot: MissionPot, moved: tuple[float, float] = (0.0, 0.0)) -> PotVisit:
+    """The robot at its approach pose believes it is ``drift`` off; the pot is ``moved`` off."""
+    true = Pose2D(*MISSION.approach(pot))
+    dx, dy = drift_at(pot.x)
+    believed = Pose2D(true.x + dx, true.y + dy, true.yaw)
+    ahead = MISSION.standoff - CONFIG.plate_offset - CONFIG.front_camera_mount[0]
+    tag = read(pot.tag, -moved[0], ahead - moved[1])  # robot faces -y: right is -x, ahead is -y
+    v = PotVisit(pot.id)
+    assert finder.place(pot, v, (tag,), believed, CONFIG.tag_max_distance)
+    return v
+
+
+def test_unmoved_pots_on_a_drifting_map_are_not_moved_and_one_moved_among_them_is():
+    finder = PotFinder(MISSION, None, CONFIG)
+    moved_at = {14: (0.0, -0.07)}  # 7 cm towards the aisle, where the drift is already 7 cm
+    verdicts = {pot.id: visit(finder, pot, moved_at.get(i, (0.0, 0.0))).moved for i, pot in enumerate(ROW)}
+    assert math.hypot(*drift_at(19)) > 2 * CONFIG.moved_xy  # the drift alone would trip the test
+    assert [p for p, m in verdicts.items() if m] == ["P14"]
+
+
+def test_without_the_drift_estimate_the_same_row_reports_unmoved_pots_as_moved():
+    finder = PotFinder(MISSION, None, CONFIG)
+    finder.drift = MapDrift(radius=1e-9, agree=CONFIG.moved_xy / 2)  # no neighbours ever
+    verdicts = [visit(finder, pot).moved for pot in ROW]
+    assert sum(verdicts) >= 5
+
+
+def test_neighbours_that_disagree_say_nothing_about_the_drift():
+    drift = MapDrift(radius=3.0, agree=0.025)
+    drift.record((0.0, 0.0), (0.04, 0.0))
+    drift.record((1.0, 0.0), (0.041, 0.002))
+    assert drift.near(2.0, 0.0) == pytest.approx((0.0405, 0.001))
+    assert drift.near(9.0, 0.0) == (0.0, 0.0)  # none near
+    drift.record((2.0, 0.0), (-0.03, 0.0))  # a pot measured elsewhere: no consensus
+    assert drift.near(2.0, 0.0) == (0.0, 0.0)
