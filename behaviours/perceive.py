@@ -7,6 +7,7 @@ leaves just ask. How long to wait for a frame is the ``Timeout`` decorator's bus
 """
 from __future__ import annotations
 
+import math
 from typing import Callable
 
 import py_trees
@@ -14,6 +15,7 @@ from py_trees.common import Status
 
 from behaviours.visit import PotVisit
 from hw.interfaces import Clock
+from hw.odometry import Pose2D
 from perception.camera_pipeline import CameraPipeline, Frame
 from perception.detections import TagRead
 from perception.flower_detector import FlowerDetector
@@ -69,19 +71,36 @@ class ReadTags(_FreshFrame):
 
 
 class WatchTags(py_trees.behaviour.Behaviour):
-    """Always RUNNING beside the patrol: each new front frame's tag reads go to ``seen`` (the
-    mission keeps the ones it does not list, with their map positions)."""
+    """Always RUNNING beside the patrol: the tags in view go to ``seen`` (the mission keeps the
+    ones it does not list, with their map positions).
+
+    It asks for a frame only when the view has changed since the last one it read: the robot
+    has moved ``spacing`` metres or turned ``turn`` radians (``pose`` gives its map pose). A
+    robot standing at a pot for its inspection sees the same tags frame after frame; reading
+    them again costs the Pi a tag detection (and the sim a render) each and adds nothing, so the
+    cost follows the distance driven, not the time spent."""
 
     def __init__(self, name: str, camera: CameraPipeline, reader: TagReader,
-                 seen: Callable[[Frame, tuple[TagRead, ...]], None]):
+                 seen: Callable[[Frame, tuple[TagRead, ...]], None], pose: Callable[[], Pose2D],
+                 spacing: float, turn: float):
         super().__init__(name)
         self.camera, self.reader, self.seen = camera, reader, seen
+        self.pose, self.spacing, self.turn = pose, spacing, turn
         self.last: float | None = None
+        self._viewed_from: Pose2D | None = None
+
+    def _view_changed(self, here: Pose2D) -> bool:
+        was = self._viewed_from
+        return was is None or math.hypot(here.x - was.x, here.y - was.y) >= self.spacing \
+            or abs(math.remainder(here.yaw - was.yaw, 2 * math.pi)) >= self.turn
 
     def update(self) -> Status:
+        here = self.pose()
+        if not self._view_changed(here):
+            return Status.RUNNING
         frame = self.camera.request()
         if frame is not None and frame.stamp != self.last:
-            self.last = frame.stamp
+            self.last, self._viewed_from = frame.stamp, here
             reads = self.reader.read(frame.image)
             if reads:
                 self.seen(frame, reads)

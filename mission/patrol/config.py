@@ -68,6 +68,12 @@ class PatrolConfig(BaseModel):
     search_time: float = Field(90.0, gt=0)
     """Seconds the whole search may take before the pot is ``not_found``: a search is bounded in
     time as in space, so a pot taken away costs a patrol a minute and a half, not the day."""
+    watch_spacing: float = Field(0.25, gt=0)
+    """Tags en route are looked for in a new front frame only once the robot has moved this far
+    since the last one, m (``behaviours.perceive.WatchTags``): a robot standing at a pot would
+    read the same tags over and over. A 1.5 m read range sees each plate from several places."""
+    watch_turn: float = Field(0.25, gt=0)
+    """... or turned this much, rad."""
     discovered_max_distance: float = Field(1.5, gt=0)
     """Tags seen en route are placed on the map only when read nearer than this, m: further
     away the pose from a 10 cm tag is too coarse to say which pot it is on."""

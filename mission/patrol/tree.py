@@ -229,7 +229,8 @@ class PatrolTree:
         pots = Sequence("pots", memory=True, children=[self._pot(p) for p in self.order]
                         + [self._pot(p, later=True) for p in self.order])
         watch = WatchTags("watch tags", self.cameras["front"], self.tag_reader,
-                          lambda frame, reads: self.report.saw(reads, self.nav.map_pose()))
+                          lambda frame, reads: self.report.saw(reads, self.nav.map_pose()),
+                          self.nav.map_pose, c.watch_spacing, c.watch_turn)
         patrol = Sequence("patrol", memory=True, children=[
             OneShot("start-up (once)", self._timed(startup, c.startup_timeout), OneShotPolicy.ON_COMPLETION),
             Parallel("pots and tags", ParallelPolicy.SuccessOnSelected([pots]), children=[pots, watch]),

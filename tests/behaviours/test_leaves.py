@@ -154,10 +154,28 @@ def test_watch_tags_reports_each_new_frame_once_and_never_ends():
     clock, seen = SimClock(), []
     cam = CameraPipeline(Camera(), clock, 2.0, "front")
     reader = type("R", (), {"read": lambda self, image: ("tag",)})()
-    leaf = WatchTags("watch", cam, reader, lambda frame, reads: seen.append(frame.stamp))
+    leaf = WatchTags("watch", cam, reader, lambda frame, reads: seen.append(frame.stamp),
+                     lambda: Pose2D(clock.now(), 0.0, 0.0), 0.0, 0.0)  # always a new view
     for t in np.arange(0.0, 1.01, 0.1):
         assert tick_at(leaf, clock, float(t)) is Status.RUNNING
     assert seen == [0.0, 0.5, 1.0]
+
+
+def test_watch_tags_looks_again_only_once_the_view_has_changed():
+    clock, seen, pose = SimClock(), [], [Pose2D()]
+    cam = CameraPipeline(Camera(), clock, 2.0, "front")
+    reader = type("R", (), {"read": lambda self, image: ("tag",)})()
+    leaf = WatchTags("watch", cam, reader, lambda frame, reads: seen.append(frame.stamp), lambda: pose[0], 0.25, 0.25)
+    for t in np.arange(0.0, 3.01, 0.1):  # standing still for 3 s: one look
+        tick_at(leaf, clock, float(t))
+    assert seen == [0.0] and cam.captures == 1
+    pose[0] = Pose2D(0.2, 0.0, 0.2)  # not far enough, not turned enough
+    tick_at(leaf, clock, 3.5)
+    pose[0] = Pose2D(0.0, 0.0, -0.3)  # turned
+    tick_at(leaf, clock, 4.0)
+    pose[0] = Pose2D(0.0, 0.26, -0.3)  # moved
+    tick_at(leaf, clock, 4.5)
+    assert seen == [0.0, 4.0, 4.5]
 
 
 def test_a_sequence_of_leaves_stops_at_the_first_failure():
