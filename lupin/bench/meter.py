@@ -6,13 +6,16 @@ work per scan over the patrol, and memory.
   reply), per second of robot time: the share of a core the stack needs on the robot, whatever
   the simulator costs here. ``runtime_cpu_per_robot_s`` 0.3 means 30 % of one core.
 - **SLAM per scan** is the worker's busy time for every scan it mapped, in order, so the first
-  and the last tenth of a patrol can be compared; solves are the scans that optimised the pose
+  and the last tenth of a patrol can be compared (and their scans taken on the move alone: a
+  scan costs more while the robot drives than while it stands at a pot, and the tenths need not
+  hold the same share of each); solves are the scans that optimised the pose
   graph; ``kept_mb`` is what it holds to re-render.
 - **Peak memory** is the high-water resident set of the runtime process during the patrol (the
   mark is reset at the start where Linux allows it) and of the SLAM worker.
 """
 from __future__ import annotations
 
+import math
 import time
 from pathlib import Path
 
@@ -48,6 +51,9 @@ class PatrolMeter:
         _reset_hwm()
         self.cpu0, self.sim_cpu0 = time.process_time(), self.engine.cpu_s
         self.busy: list[float] = []
+        self.moving: list[bool] = []
+        """Per scan: had the robot moved since the scan before (1 cm or 0.01 rad)?"""
+        self._last_pose = None
         self.solves: list[float] = []
         self.kept_bytes = 0
         self.keyframes = 0
@@ -58,6 +64,9 @@ class PatrolMeter:
 
     def _reply(self, reply) -> None:
         self.busy.append(reply.busy_s)
+        was, self._last_pose = self._last_pose, reply.pose
+        self.moving.append(was is not None and (math.hypot(reply.pose.x - was.x, reply.pose.y - was.y) >= 0.01
+                                                or abs(math.remainder(reply.pose.yaw - was.yaw, 2 * math.pi)) >= 0.01))
         if reply.solve_s:
             self.solves.append(reply.solve_s)
         self.kept_bytes, self.keyframes = reply.kept_bytes, reply.keyframes
@@ -76,6 +85,7 @@ class PatrolMeter:
         busy = np.asarray(self.busy) * 1000.0
         tenth = max(1, len(busy) // 10)
         first, last = busy[:tenth], busy[-tenth:]
+        moving = np.asarray(self.moving, dtype=bool)
         return {
             "robot_s": round(robot_s, 1),
             "runtime_cpu_s": round(main + worker, 2), "slam_worker_cpu_s": round(worker, 2),
@@ -85,6 +95,10 @@ class PatrolMeter:
             "slam_scans": len(busy), "slam_keyframes": self.keyframes, "slam_kept_mb": round(self.kept_bytes / 1e6, 2),
             "slam_first_tenth_ms": _stats(first), "slam_last_tenth_ms": _stats(last),
             "slam_last_over_first_median": round(float(np.median(last) / np.median(first)), 3) if len(busy) else None,
+            "slam_moving_share": {"first_tenth": round(float(moving[:tenth].mean()), 3) if len(busy) else None,
+                                  "last_tenth": round(float(moving[-tenth:].mean()), 3) if len(busy) else None},
+            "slam_first_tenth_moving_ms": _stats(first[moving[:tenth]]),
+            "slam_last_tenth_moving_ms": _stats(last[moving[-tenth:]]),
             "slam_solves": len(self.solves), "slam_solve_ms": _stats(np.asarray(self.solves) * 1000.0),
         }
 

@@ -148,6 +148,8 @@ def slam_scale(config: LupinConfig) -> Sample:
         "scans": cost["slam_scans"], "keyframes": cost["slam_keyframes"], "distance_m": doc["distance_m"],
         "first_tenth_ms": first, "last_tenth_ms": last, "last_over_first_median": cost["slam_last_over_first_median"],
         "last_over_first_p95": round(last["p95"] / first["p95"], 3),
+        "moving_share": cost["slam_moving_share"], "first_tenth_moving_ms": cost["slam_first_tenth_moving_ms"],
+        "last_tenth_moving_ms": cost["slam_last_tenth_moving_ms"],
         "solves": cost["slam_solves"], "solve_ms": cost["slam_solve_ms"], "kept_mb": cost["slam_kept_mb"]})
 
 

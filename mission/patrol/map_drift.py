@@ -2,24 +2,26 @@
 
 A mission's pot poses are in the frame the map had when they were written (the survey's map, or
 the world's). SLAM's map drifts from that frame slowly and smoothly, a few centimetres over tens
-of metres (on a 36 m two-bay greenhouse, ~5 cm at the far end), so a pot's tag read at arrival
+of metres (on a 36 m two-bay greenhouse, 5-10 cm at the far end), so a pot's tag read at arrival
 places it off the mission's pose by the drift even when nobody touched it. With ``moved_xy`` at
-5 cm, 143 of 180 unmoved pots there were reported ``moved`` and approached a second time.
+5 cm, 143 to 164 of 180 unmoved pots there were reported ``moved``.
 
 Drift is shared by neighbours; a moved pot is alone. So the offsets (measured minus mission) of
-the unmoved pots already located near a pot say what its offset would be had it not moved: when
-at least ``MIN_NEIGHBOURS`` of them within ``radius`` agree (all within half of ``moved_xy`` of
-their mean), that mean is the local drift, and the pot has moved only when its own offset is
-farther than ``moved_xy`` from it. Where neighbours disagree (several moved pots about) or there
-are too few (the first pots of a patrol), the drift is taken as zero, as before. The report
-still gives the measured position in the map frame.
+the pots already located near a pot say what its offset would be had it not moved: when at least
+``MIN_NEIGHBOURS`` of them within ``radius``, and more than half of them, agree (lie within half
+of ``moved_xy`` of the neighbours' median offset), their mean is the local drift, and the pot has
+moved only when its own offset is farther than ``moved_xy`` from it. A few moved pots among the
+neighbours are outvoted; where they do not agree, or there are too few (the first two pots of a
+patrol), the drift is taken as zero, as before. The report still gives the measured position in
+the map frame, and the robot approaches a pot from where its tag put it whenever that is off the
+mission's pose, drift or not (``PotVisit.shifted``).
 """
 from __future__ import annotations
 
 import numpy as np
 
 MIN_NEIGHBOURS = 2
-"""Unmoved pots that must agree before their offset counts as the map's drift."""
+"""Located pots that must agree before their offset counts as the map's drift."""
 
 
 class MapDrift:
@@ -29,7 +31,7 @@ class MapDrift:
         self._offset: list[tuple[float, float]] = []
 
     def record(self, mission_xy: tuple[float, float], offset: tuple[float, float]) -> None:
-        """An unmoved pot's offset, measured minus mission, at its mission position."""
+        """A located pot's offset, measured minus mission, at its mission position."""
         self._at.append(mission_xy)
         self._offset.append(offset)
 
@@ -41,7 +43,8 @@ class MapDrift:
         off = off[np.hypot(at[:, 0] - x, at[:, 1] - y) <= self.radius]
         if len(off) < MIN_NEIGHBOURS:
             return 0.0, 0.0
-        mean = off.mean(axis=0)
-        if np.hypot(*(off - mean).T).max() > self.agree:
+        agree = off[np.hypot(*(off - np.median(off, axis=0)).T) <= self.agree]
+        if len(agree) < MIN_NEIGHBOURS or 2 * len(agree) <= len(off):
             return 0.0, 0.0
+        mean = agree.mean(axis=0)
         return float(mean[0]), float(mean[1])

@@ -64,12 +64,12 @@ class PotFinder:
             return False
         s = pot_from_tag(read, robot, self.config.front_camera_mount, self.config.plate_offset)
         visit.located, visit.own_tag = (s.x, s.y, s.facing), read
+        off, turn = self.offset(pot, visit)
         dx, dy = self.drift.near(pot.x, pot.y)
-        off = math.hypot(s.x - pot.x - dx, s.y - pot.y - dy)
-        turn = self.offset(pot, visit)[1]
-        visit.moved = off > self.config.moved_xy or turn > self.config.moved_yaw
-        if not visit.moved:
-            self.drift.record((pot.x, pot.y), (s.x - pot.x, s.y - pot.y))
+        beyond_drift = math.hypot(s.x - pot.x - dx, s.y - pot.y - dy)
+        visit.shifted = off > self.config.moved_xy or turn > self.config.moved_yaw
+        visit.moved = beyond_drift > self.config.moved_xy or turn > self.config.moved_yaw
+        self.drift.record((pot.x, pot.y), (s.x - pot.x, s.y - pot.y))
         return True
 
     def offset(self, pot: MissionPot, visit: PotVisit) -> tuple[float, float]:
@@ -78,8 +78,9 @@ class PotFinder:
         return math.hypot(x - pot.x, y - pot.y), abs(math.remainder(facing - pot.facing, 2 * math.pi))
 
     def approach(self, pot: MissionPot, visit: PotVisit) -> Pose2D:
-        """The approach pose: from where the tag put a moved pot, else the mission's."""
-        if visit.moved:
+        """The approach pose: from where the tag put a shifted pot (moved, or off by the map's
+        drift), else the mission's."""
+        if visit.shifted:
             x, y, facing = visit.located
             return approach_pose(x, y, facing, self.mission.standoff)
         return Pose2D(*self.mission.approach(pot))

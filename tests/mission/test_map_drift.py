@@ -51,11 +51,24 @@ def test_without_the_drift_estimate_the_same_row_reports_unmoved_pots_as_moved()
     assert sum(verdicts) >= 5
 
 
-def test_neighbours_that_disagree_say_nothing_about_the_drift():
+def test_the_drift_is_what_most_neighbours_agree_on_and_nothing_when_they_do_not():
     drift = MapDrift(radius=3.0, agree=0.025)
     drift.record((0.0, 0.0), (0.04, 0.0))
     drift.record((1.0, 0.0), (0.041, 0.002))
     assert drift.near(2.0, 0.0) == pytest.approx((0.0405, 0.001))
     assert drift.near(9.0, 0.0) == (0.0, 0.0)  # none near
-    drift.record((2.0, 0.0), (-0.03, 0.0))  # a pot measured elsewhere: no consensus
+    drift.record((2.0, 0.0), (0.04, 0.001))
+    drift.record((3.0, 0.0), (-0.15, 0.1))  # a moved pot among them is outvoted
+    assert drift.near(2.0, 0.0) == pytest.approx(((0.04 + 0.041 + 0.04) / 3, 0.001))
+    drift.record((2.5, 0.0), (0.2, -0.1))
+    drift.record((1.5, 0.0), (-0.1, -0.2))  # as many moved as not: no consensus
     assert drift.near(2.0, 0.0) == (0.0, 0.0)
+
+
+def test_a_pot_off_by_the_drift_alone_is_approached_from_where_it_is_but_not_reported_moved():
+    finder = PotFinder(MISSION, None, CONFIG)
+    visits = [visit(finder, pot) for pot in ROW]
+    far = visits[-1]
+    assert far.shifted and not far.moved  # 9 cm off by the map's drift
+    goal = finder.approach(ROW[-1], far)
+    assert goal.x == pytest.approx(far.located[0], abs=1e-9)  # stands where the pot is in the map
