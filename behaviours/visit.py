@@ -34,11 +34,9 @@ class PotVisit:
     """Where the pot's own tag put the pot (x, y, facing in the map), when it was read."""
     own_tag: TagRead | None = None
     """The read of the pot's own tag that placed it (kept when a later frame misses it)."""
-    shifted: bool = False
-    """``located`` is far enough from the mission's pose in the map that the robot approaches it
-    from there: because the pot moved, or because the map drifted from the mission's frame."""
     moved: bool = False
-    """``located`` is off the mission's pose beyond the map's drift: the pot itself moved."""
+    """``located`` is off the mission's pose beyond the map's drift there: the pot itself moved
+    (and was driven to)."""
     failures: dict[str, str] = field(default_factory=dict)
     """Step -> why it failed ('approach', 'search', 'arm', 'wrist', 'front')."""
     done: bool = False

@@ -64,11 +64,9 @@ class PotFinder:
             return False
         s = pot_from_tag(read, robot, self.config.front_camera_mount, self.config.plate_offset)
         visit.located, visit.own_tag = (s.x, s.y, s.facing), read
-        off, turn = self.offset(pot, visit)
         dx, dy = self.drift.near(pot.x, pot.y)
-        beyond_drift = math.hypot(s.x - pot.x - dx, s.y - pot.y - dy)
-        visit.shifted = off > self.config.moved_xy or turn > self.config.moved_yaw
-        visit.moved = beyond_drift > self.config.moved_xy or turn > self.config.moved_yaw
+        off, turn = math.hypot(s.x - pot.x - dx, s.y - pot.y - dy), self.offset(pot, visit)[1]
+        visit.moved = off > self.config.moved_xy or turn > self.config.moved_yaw
         self.drift.record((pot.x, pot.y), (s.x - pot.x, s.y - pot.y))
         return True
 
@@ -78,12 +76,13 @@ class PotFinder:
         return math.hypot(x - pot.x, y - pot.y), abs(math.remainder(facing - pot.facing, 2 * math.pi))
 
     def approach(self, pot: MissionPot, visit: PotVisit) -> Pose2D:
-        """The approach pose: from where the tag put a shifted pot (moved, or off by the map's
-        drift), else the mission's."""
-        if visit.shifted:
+        """The approach pose: from where the tag put a moved pot, else the mission's, carried by
+        the map's drift there (so a pot off by the drift alone is stood at right the first time)."""
+        if visit.moved:
             x, y, facing = visit.located
             return approach_pose(x, y, facing, self.mission.standoff)
-        return Pose2D(*self.mission.approach(pot))
+        dx, dy = self.drift.near(pot.x, pot.y)
+        return approach_pose(pot.x + dx, pot.y + dy, pot.facing, self.mission.standoff)
 
     def search_looks(self, pot: MissionPot) -> list[Pose2D]:
         """Where to look for a pot whose tag was not at its approach pose: first a step back

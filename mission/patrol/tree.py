@@ -267,9 +267,9 @@ class PatrolTree:
         front = read_front("front camera")
         find = self._find(pot, visit)
         def in_place() -> bool:
-            """Not shifted, and the robot stopped close enough to its approach pose for the wrist."""
+            """Not moved, and the robot stopped close enough to its approach pose for the wrist."""
             off = distance(visit.arrived, self.approach_goal(pot)) if visit.arrived is not None else 0.0
-            return not visit.shifted and off <= c.moved_approach_xy * 1.5
+            return not visit.moved and off <= c.moved_approach_xy * 1.5
 
         again = Selector(f"approach again {pot.id}", memory=True, children=[
             self._timed(NavigateTo(f"approach closely {pot.id}", self.nav, lambda: self.approach_goal(pot), clock,

@@ -177,8 +177,9 @@ def test_lidar_sees_the_robots_own_arm(rig):
 
 
 def test_the_robots_cameras_draw_only_what_lies_within_their_draw_distance():
-    """A crate 2 m ahead is drawn; one 11 m ahead, and the hall's end wall 13 m ahead, are left
-    out of the front frame, and nothing else changes; the model is as it was."""
+    """At the 4 m draw distance a crate 2 m ahead is drawn; one 11 m ahead, and the hall's end
+    wall 13 m ahead, are left out of the front frame, and nothing else changes; the model is as
+    it was."""
     from sim.world import Floor, Obstacle, Pose2, World
 
     world = World(name="long", floor=Floor(x=14.0, y=4.0), spawn=Pose2(x=1.0, y=2.0, yaw=0.0), pots=[],
@@ -188,7 +189,7 @@ def test_the_robots_cameras_draw_only_what_lies_within_their_draw_distance():
         rgba = sim.engine.model.geom_rgba.copy()
         limited = sim.hal.cameras["front"].capture().astype(int)
         everything = sim.renderers.render("front_camera", 640, 480)[:, :, ::-1].astype(int)
-        assert sim.hal.cameras["front"].draw_distance == 8.0
+        assert sim.hal.cameras["front"].draw_distance == 4.0
         assert np.array_equal(sim.engine.model.geom_rgba, rgba)
         changed = np.abs(limited - everything).sum(axis=2) > 30
         rows, cols = np.nonzero(changed)
