@@ -152,10 +152,12 @@ class PatrolTree:
         return self.finder.approach(pot, self.visits[pot.id])
 
     def inspect_goal(self, pot: MissionPot, visit: PotVisit) -> tuple[object, str]:
-        """``inspect`` from the ideal approach pose; from elsewhere (by the robot's belief on
-        arrival), the IK pose that looks at the spot ``inspect`` would have framed from the
-        ideal pose (``inspect`` again when no pose inside the windows can)."""
-        ideal, here = self.approach_goal(pot), visit.arrived
+        """``inspect`` from the ideal approach pose; from elsewhere, the IK pose that looks at
+        the spot ``inspect`` would have framed from the ideal pose (``inspect`` again when no
+        pose inside the windows can). Where the robot is, is its belief now, not on arrival: it
+        stands still, and the goal is in the map as it is now (a loop closure since arrival
+        moves both)."""
+        ideal, here = self.approach_goal(pot), self.nav.map_pose()
         off = compose(inverse(ideal), here)
         visit.view = "inspect"
         if math.hypot(off.x, off.y) > self.config.aim_xy or abs(off.yaw) > self.config.aim_yaw:
@@ -268,7 +270,7 @@ class PatrolTree:
         find = self._find(pot, visit)
         def in_place() -> bool:
             """Not moved, and the robot stopped close enough to its approach pose for the wrist."""
-            off = distance(visit.arrived, self.approach_goal(pot)) if visit.arrived is not None else 0.0
+            off = distance(self.nav.map_pose(), self.approach_goal(pot)) if visit.arrived is not None else 0.0
             return not visit.moved and off <= c.moved_approach_xy * 1.5
 
         again = Selector(f"approach again {pot.id}", memory=True, children=[
@@ -321,7 +323,7 @@ class PatrolTree:
             if finder.needs_search(pot, visit):
                 return False
             if visit.arrived is not None:
-                finder.place(pot, visit, visit.tags, visit.arrived, c.tag_max_distance)
+                finder.place(pot, visit, visit.tags, self.nav.map_pose(), c.tag_max_distance)
             return True
 
         def found(reads, robot: Pose2D) -> bool:
