@@ -21,7 +21,8 @@ class PotVisit:
     attempts: int = 0
     """Navigation attempts started for this pot."""
     arrived: Pose2D | None = None
-    """The robot's map pose (its belief) when the approach succeeded."""
+    """The robot's map pose (its belief) where it stands for the pot: taken when the approach
+    succeeded, and again when the wrist is aimed (a loop closure in between moves it)."""
     view: str | None = None
     """The arm pose the wrist frame is taken from: 'inspect', or 'aim' (IK, off the ideal pose)."""
     wrist: Frame | None = None

@@ -157,7 +157,8 @@ class PatrolTree:
         pose inside the windows can). Where the robot is, is its belief now, not on arrival: it
         stands still, and the goal is in the map as it is now (a loop closure since arrival
         moves both)."""
-        ideal, here = self.approach_goal(pot), self.nav.map_pose()
+        ideal = self.approach_goal(pot)
+        here = visit.arrived = self.nav.map_pose()
         off = compose(inverse(ideal), here)
         visit.view = "inspect"
         if math.hypot(off.x, off.y) > self.config.aim_xy or abs(off.yaw) > self.config.aim_yaw:
