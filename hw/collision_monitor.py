@@ -10,11 +10,12 @@ Three rules, as Nav2 names them, each judged in the direction the base is comman
 (this base drives sideways as readily as forwards, so a zone "in front" turns with the twist):
 
 - **stop**: ``min_points`` or more scan points in the stop zone -> the linear part of the twist
-  is zeroed. The zone is what the footprint would sweep in the next ``length - radius`` metres
-  (8 cm) of straight travel, within a box ``length`` ahead and ``half_width`` to either side:
-  a pot's rim diagonally ahead that the robot will pass by is not in it (the box's corners
-  stopped the 180-pot patrol 177 times at its pots, 8 % of its robot time) (turning on the spot sweeps nothing new with a circular
-  footprint, so it stays allowed and lets the planner look for another way);
+  is zeroed (turning on the spot sweeps nothing new with a circular footprint, so it stays
+  allowed and lets the planner look for another way). The zone is what the footprint would
+  sweep in the next ``length - radius`` metres (8 cm) of straight travel, within a box
+  ``length`` ahead and ``half_width`` to either side: a pot's rim diagonally ahead that the
+  robot will pass by is not in it (the box's corners stopped the 180-pot patrol 177 times at
+  its pots, 8 % of its robot time);
 - **slowdown**: points in the larger slowdown box -> the whole twist is scaled so the linear
   speed is at most ``slowdown.speed``;
 - **approach**: the footprint (a circle of the nav footprint radius) is carried along the

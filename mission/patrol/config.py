@@ -52,7 +52,7 @@ class PatrolConfig(BaseModel):
     moved_yaw: float = Field(0.15, gt=0)
     """... or turned by more than this, rad."""
     drift_radius: float = Field(3.0, gt=0)
-    """Unmoved pots located within this of a pot (mission positions, m) say how far the map has
+    """Pots located within this of a pot (mission positions, m) say how far the map has
     drifted there from the mission's frame (``mission.patrol.map_drift``): an aisle's worth of
     neighbours at 1 m spacing, near enough that smooth SLAM drift is the same for them."""
     moved_approach_xy: float = Field(0.08, gt=0)

@@ -20,8 +20,8 @@ import numpy as np
 from behaviours.visit import PotVisit
 from hw.odometry import Pose2D
 from mission.approach import approach_pose
-from mission.patrol.map_drift import MapDrift
 from mission.patrol.config import PatrolConfig
+from mission.patrol.map_drift import MapDrift
 from mission.patrol.mission_file import Mission, MissionPot
 from mission.patrol.tag_sightings import pot_from_tag
 from nav.costmap.grid import INSCRIBED
@@ -42,7 +42,7 @@ class PotFinder:
     nav: Navigator
     config: PatrolConfig
     drift: MapDrift = field(init=False)
-    """The map's drift from the mission's frame, read off the unmoved pots located so far."""
+    """The map's drift from the mission's frame, read off the pots located so far."""
 
     def __post_init__(self):
         self.drift = MapDrift(self.config.drift_radius, self.config.moved_xy / 2)

@@ -35,22 +35,24 @@ def cpu_seconds(pid: int) -> Optional[float]:
 
 
 class Liveness:
-    """Watches one outstanding request to a worker process."""
+    """Watches one late reply from a worker process; made only once a reply is late, so a
+    prompt worker never costs a read of ``/proc``."""
 
-    def __init__(self, pid: int, now: float):
+    def __init__(self, pid: int, since: float):
         self.pid = pid
-        self.cpu_at_send = cpu_seconds(pid)
-        self._cpu, self._progress_at = self.cpu_at_send, now
+        self._progress_at = since
+        """When the worker was last seen gaining CPU (at first: when the wait began)."""
+        self._cpu_at_start = self._cpu = cpu_seconds(pid)
 
     def wedged(self, now: float, limit: float) -> Optional[str]:
         """Why the worker counts as wedged at ``now`` (seconds on the caller's clock), or None."""
         cpu = cpu_seconds(self.pid)
-        if cpu is None or self.cpu_at_send is None:
+        if cpu is None or self._cpu_at_start is None:
             return f"no reply in {limit:g} s" if now - self._progress_at >= limit else None
         if cpu > self._cpu:
             self._cpu, self._progress_at = cpu, now
-        if cpu - self.cpu_at_send >= limit:
-            return f"{cpu - self.cpu_at_send:.1f} CPU s on one scan (spinning)"
+        if cpu - self._cpu_at_start >= limit:
+            return f"{cpu - self._cpu_at_start:.1f} CPU s on one scan (spinning)"
         if now - self._progress_at >= limit:
             return f"no reply and no CPU used in {limit:g} s (hung)"
         return None

@@ -26,7 +26,6 @@ import json
 import logging
 import subprocess
 import sys
-import time
 from multiprocessing.connection import Pipe
 from typing import Callable, Optional
 
@@ -41,7 +40,8 @@ from nav.slam.liveness import Liveness
 log = logging.getLogger(__name__)
 
 _SLICE = 0.25
-"""Wall seconds a lock-step wait polls between looks at the worker's CPU time."""
+"""Seconds a lock-step wait polls between looks at the worker's CPU time: a poll that comes back
+empty has waited that long, so the wait is timed without reading a clock."""
 
 
 class SlamSupervisor:
@@ -66,7 +66,7 @@ class SlamSupervisor:
         self._pending: float | None = None
         """Runtime time the outstanding scan was sent at, None when none is."""
         self._watch: Liveness | None = None
-        """Tells a wedged worker from a starved one while a scan is outstanding."""
+        """Tells a wedged worker from a starved one once a reply is late (None until then)."""
         self._sent_stamp = -1.0
         self._respawn_at: float | None = 0.0
         self._answered = False
@@ -110,7 +110,7 @@ class SlamSupervisor:
         if want_map:
             self._next_map = now + self.cfg.map_update_interval
         self._pending, self._sent_stamp = now, scan.stamp
-        self._watch = Liveness(self._proc.pid, time.monotonic() if self.lockstep else now)
+        self._watch = None
 
     def request_map(self) -> None:
         """Have the next exchange bring the map back, whatever the update interval (a map save)."""
@@ -151,12 +151,18 @@ class SlamSupervisor:
     def _collect(self, now: float) -> bool:
         """Take the reply to the outstanding scan; False if there is none (yet).
 
-        Lock-step waits (in wall-time slices) for as long as the worker is working, however
-        slowly; free-running looks once and judges the silence on the runtime clock."""
+        Lock-step waits, slice by slice, for as long as the worker is working, however slowly
+        (the wait's clock is the slices waited); free-running looks once and judges the silence
+        on the runtime clock from when the scan was sent. Only a late reply costs a look at the
+        worker's CPU time."""
         limit = self.cfg.reply_timeout if self._answered else self.cfg.startup_timeout
+        waited = 0.0
         try:
             while not self._conn.poll(min(_SLICE, limit) if self.lockstep else 0.0):
-                why = self._watch.wedged(time.monotonic() if self.lockstep else now, limit)
+                if self._watch is None:
+                    self._watch = Liveness(self._proc.pid, 0.0 if self.lockstep else self._pending)
+                waited += min(_SLICE, limit)
+                why = self._watch.wedged(waited if self.lockstep else now, limit)
                 if why is not None:
                     self._lost(now, why + ", wedged")
                     return False
