@@ -2,8 +2,12 @@
 
 Pots are what the lidar sees as small things standing apart: 8-connected clusters of occupied
 cells (map_server occupied: 65..100) no larger than ``max_size`` across, unlike walls, benches
-and the greenhouse's frame. A cluster is the arc of the pot's side the lidar saw, so its centre
-lies up to a pot radius off the pot's; ``near`` below allows for it.
+and the greenhouse's frame. A cluster is the arc of the pot's side the lidar saw, so its centre of
+mass lies up to a pot radius off the pot's, towards where the lidar saw it from; a look aimed
+there frames the plate off centre, up to the frame's edge at the approach distance (a survey
+missed a pot that way). So each cluster is fitted with a circle of the pot's radius: the centre
+whose distance to the cluster's cells is nearest the radius, on the side the lidar did not see
+into (a mirror fit on the seen side would have free cells inside the pot).
 
 A pot's tag is on its aisle side, which the map cannot tell (in a greenhouse on a square grid,
 aisles and the gaps along a row look alike to a lidar), so every pot gets a *look* from each of
@@ -38,17 +42,53 @@ class Look:
     """Index of the pot looked at (``pot_blobs``)."""
 
 
-def pot_blobs(occupancy: OccupancyMap, max_size: float = 0.45, min_cells: int = 2) -> np.ndarray:
-    """(N, 2) map-frame centres of the small occupied clusters: the pots the lidar saw."""
+FREE_BELOW = 25
+"""map_server's free threshold (0.25) in the map's 0..100: a cell the lidar saw through."""
+POT_RADIUS = 0.10
+"""The pots' radius, m (spec/world.md: ~0.10 m); a robot's is ``PatrolConfig.pot_radius``."""
+FIT_STEP = 0.005
+"""Spacing of the candidate centres the circle fit tries, m."""
+
+
+def pot_blobs(occupancy: OccupancyMap, max_size: float = 0.45, min_cells: int = 2,
+              radius: float = POT_RADIUS) -> np.ndarray:
+    """(N, 2) map-frame centres of the pots the lidar saw: the small occupied clusters, each
+    fitted with a circle of ``radius`` (``pot_centre``)."""
     occupied = (occupancy.occupancy >= OCCUPIED).astype(np.uint8)
-    n, labels, stats, centroids = cv2.connectedComponentsWithStats(occupied, connectivity=8)
+    n, labels, stats, _ = cv2.connectedComponentsWithStats(occupied, connectivity=8)
     res = occupancy.resolution
     small = [k for k in range(1, n) if stats[k, cv2.CC_STAT_AREA] >= min_cells
              and max(stats[k, cv2.CC_STAT_WIDTH], stats[k, cv2.CC_STAT_HEIGHT]) * res <= max_size]
-    if not small:
-        return np.zeros((0, 2))
-    cx, cy = centroids[small, 0], centroids[small, 1]  # pixel (column, row) centres of mass
-    return np.column_stack([occupancy.origin_x + (cx + 0.5) * res, occupancy.origin_y + (cy + 0.5) * res])
+    return np.array([pot_centre(occupancy, np.argwhere(labels == k), radius) for k in small]).reshape(-1, 2)
+
+
+def pot_centre(occupancy: OccupancyMap, cells: np.ndarray, radius: float) -> tuple[float, float]:
+    """The map-frame centre of the pot whose side is ``cells`` ((K, 2) rows, columns): of the
+    candidates within ``radius`` of the cells' centre of mass, the one whose distances to the cells
+    are nearest ``radius`` (least squares), with no seen-through cell inside the pot (a quarter
+    of its radius of slack for the grid's quantisation)."""
+    res = occupancy.resolution
+    pts = np.column_stack([occupancy.origin_x + (cells[:, 1] + 0.5) * res, occupancy.origin_y + (cells[:, 0] + 0.5) * res])
+    mx, my = pts.mean(axis=0)
+    n = math.ceil(radius / FIT_STEP)
+    cx, cy = np.meshgrid(mx + np.arange(-n, n + 1) * FIT_STEP, my + np.arange(-n, n + 1) * FIT_STEP)
+    keep = np.hypot(cx - mx, cy - my) <= n * FIT_STEP  # the centre of mass is always a candidate
+    cand = np.column_stack([cx[keep], cy[keep]])
+    misfit = ((np.hypot(pts[None, :, 0] - cand[:, None, 0], pts[None, :, 1] - cand[:, None, 1]) - radius) ** 2).mean(axis=1)
+    free = _free_cells_near(occupancy, mx, my, 2 * radius)
+    inside = np.hypot(free[None, :, 0] - cand[:, None, 0], free[None, :, 1] - cand[:, None, 1]) < 0.75 * radius
+    k = int(np.argmin(misfit + inside.sum(axis=1) * radius ** 2))
+    return float(cand[k, 0]), float(cand[k, 1])
+
+
+def _free_cells_near(occupancy: OccupancyMap, x: float, y: float, reach: float) -> np.ndarray:
+    """(M, 2) map-frame centres of the free cells within a square of half-side ``reach``."""
+    res = occupancy.resolution
+    ix, iy, r = int((x - occupancy.origin_x) / res), int((y - occupancy.origin_y) / res), int(math.ceil(reach / res))
+    y0, x0 = max(iy - r, 0), max(ix - r, 0)
+    patch = occupancy.occupancy[y0:iy + r + 1, x0:ix + r + 1]
+    rows, cols = np.nonzero((patch >= 0) & (patch < FREE_BELOW))
+    return np.column_stack([occupancy.origin_x + (x0 + cols + 0.5) * res, occupancy.origin_y + (y0 + rows + 0.5) * res])
 
 
 def lattice_angle(pots: np.ndarray) -> float:

@@ -45,6 +45,10 @@ class PatrolConfig(BaseModel):
     """From a tag's printed face to its pot's centre along the pot's facing, m: the pot's radius
     and the plate's thickness (sim: 0.10 m pot, 3 mm card, 1 mm print). A tag read then places its
     pot (``mission.patrol.tag_sightings``)."""
+    pot_radius: float = Field(0.10, gt=0)
+    """The pots' radius, m (sim: 0.10 m): the lidar sees one side of a pot, and a circle this size
+    fitted to it puts the pot's centre in the map (``nav.viewpoints``) for the survey's looks and
+    the search for a pot not where the mission says."""
     moved_xy: float = Field(0.05, gt=0)
     """A pot its tag places farther than this from the mission's position has moved, m: the
     robot approaches it again from where it is and the report says ``moved`` (a tag read at the
