@@ -97,7 +97,8 @@ def test_serve_refuses_a_history_it_cannot_open_before_it_starts(tmp_path, capsy
 
 @pytest.mark.slow
 def test_a_rescout_mission_from_a_sim_patrol_patrols_like_any_mission(tmp_path, capsys):
-    """Patrol P02..P04 (P04 has the pest), re-scout within 1 m (P04 and P03, not P02 2 m away),
+    """Patrol P02..P04 (P04 has the pest), re-scout within 1.5 m (P04 and P03 1 m away, not P02
+    2 m away: a radius of exactly the spacing would hang on the measured positions' millimetres),
     then patrol the re-scouting mission: it loads, runs and is recorded like any other."""
     m = mission_from_world(load_default_world())
     m = m.model_copy(update={"pots": [p for p in m.pots if p.id in ("P02", "P03", "P04")]})
@@ -108,7 +109,7 @@ def test_a_rescout_mission_from_a_sim_patrol_patrols_like_any_mission(tmp_path, 
     first = json.loads((tmp_path / "a" / "report.json").read_text())
     assert next(p for p in first["pots"] if p["id"] == "P04")["flower"]["bug"] is True
     capsys.readouterr()
-    assert main(["mission", "rescout", "--history", db, "--last", "1", "--radius", "1.0",
+    assert main(["mission", "rescout", "--history", db, "--last", "1", "--radius", "1.5",
                  "-o", str(tmp_path / "r.yaml")]) == 0
     code = main(["patrol", "--mission", str(tmp_path / "r.yaml"), "--report", str(tmp_path / "b" / "report.json"),
                  "--history", db])

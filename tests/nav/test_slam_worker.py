@@ -53,7 +53,8 @@ def test_lockstep_applies_each_reply_one_tick_later_and_hands_back_the_map():
                 assert sup.last_reply is not None and sup.last_reply.stamp == pytest.approx(0.1 * (k - 1))
         assert sup.has_map() and sup.ready()
         assert (sup.occupancy.occupancy >= 65).sum() > 100
-        assert sup.map_to_odom() == Pose2D()  # standing still at the dock
+        m2o = sup.map_to_odom()  # standing still at the dock: no drift past ICP's sub-millimetre
+        assert abs(m2o.x) < 1e-3 and abs(m2o.y) < 1e-3 and abs(m2o.yaw) < 1e-3
     finally:
         sup.close()
 
