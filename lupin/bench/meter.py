@@ -9,7 +9,9 @@ work per scan over the patrol, and memory.
   and the last tenth of a patrol can be compared (and their scans taken on the move alone: a
   scan costs more while the robot drives than while it stands at a pot, and the tenths need not
   hold the same share of each); solves are the scans that optimised the pose
-  graph; ``kept_mb`` is what it holds to re-render.
+  graph (each timed whole: the solve and the re-render of what it moved; an accepted loop
+  closure that moves the estimate less than a centimetre is kept as an edge without a solve,
+  so ``loop_closures`` can exceed ``solves``); ``kept_mb`` is what it holds to re-render.
 - **Peak memory** is the high-water resident set of the runtime process during the patrol (the
   mark is reset at the start where Linux allows it) and of the SLAM worker.
 """
@@ -57,6 +59,7 @@ class PatrolMeter:
         self.solves: list[float] = []
         self.kept_bytes = 0
         self.keyframes = 0
+        self.loop_closures = 0
         self._worker_cpu: dict[int, float] = {}
         self.worker_hwm_mb = 0.0
         self.slam: SlamSupervisor = run.nav.localisation  # metered patrols map as they go
@@ -69,7 +72,7 @@ class PatrolMeter:
                                                 or abs(math.remainder(reply.pose.yaw - was.yaw, 2 * math.pi)) >= 0.01))
         if reply.solve_s:
             self.solves.append(reply.solve_s)
-        self.kept_bytes, self.keyframes = reply.kept_bytes, reply.keyframes
+        self.kept_bytes, self.keyframes, self.loop_closures = reply.kept_bytes, reply.keyframes, reply.loop_closures
         pid = self.slam.pid
         self._worker_cpu[pid] = reply.cpu_s
         if len(self.busy) % 100 == 0:
@@ -99,7 +102,8 @@ class PatrolMeter:
                                   "last_tenth": round(float(moving[-tenth:].mean()), 3) if len(busy) else None},
             "slam_first_tenth_moving_ms": _stats(first[moving[:tenth]]),
             "slam_last_tenth_moving_ms": _stats(last[moving[-tenth:]]),
-            "slam_solves": len(self.solves), "slam_solve_ms": _stats(np.asarray(self.solves) * 1000.0),
+            "slam_loop_closures": self.loop_closures, "slam_solves": len(self.solves),
+            "slam_solve_ms": _stats(np.asarray(self.solves) * 1000.0),
         }
 
 
