@@ -34,6 +34,7 @@ from mission.patrol.mission_file import Mission, parse_mission
 from mission.patrol.report import pose_error
 from mission.runtime.config import LupinConfig
 from mission.runtime.heal import heal_controllers
+from mission.runtime.heap import release_freed_memory
 from mission.runtime.navigation import attach_navigation, clear_map
 from mission.runtime.hw_runtime import start_hw_runtime
 from mission.runtime.robot import Robot
@@ -94,6 +95,7 @@ class Service:
         for listener in self.on_run:
             listener(None)
         log.info("patrol %s: %s (report %s)", run.tree.mission.name, self.outcome, run.report.path)
+        release_freed_memory()  # a service runs patrols all season: it must not grow with each
 
     def close(self) -> None:
         if self.run is not None:

@@ -28,6 +28,8 @@ def test_three_patrols_in_a_row_leave_nothing_behind(tmp_path):
     assert [a.outcome for a in after] == ["completed"] * 3 and [a.inspected for a in after] == [2, 2, 2]
     assert [a.report.parent.name for a in after] == ["b2b-1", "b2b-2", "b2b-3"]
     assert len({a.threads for a in after}) == 1 and [a.slam_workers for a in after] == [1, 1, 1]
-    assert after[2].rss_mb - after[1].rss_mb < 25.0  # flat after the second (a patrol's images are ~0.1 MB)
+    # flat after the second: 0.2 MB here; without the heap handed back after each patrol
+    # (mission.runtime.heap) it grew 4.5 MB, every patrol, for good
+    assert after[2].rss_mb - after[1].rss_mb < 2.0
     cells = [a.map_cells_known for a in after]
     assert cells[0] > 0 and cells == sorted(cells)  # one map, kept and growing, never reset
