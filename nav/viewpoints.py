@@ -59,14 +59,20 @@ def pot_blobs(occupancy: OccupancyMap, max_size: float = 0.45, min_cells: int = 
     res = occupancy.resolution
     small = [k for k in range(1, n) if stats[k, cv2.CC_STAT_AREA] >= min_cells
              and max(stats[k, cv2.CC_STAT_WIDTH], stats[k, cv2.CC_STAT_HEIGHT]) * res <= max_size]
-    return np.array([pot_centre(occupancy, np.argwhere(labels == k), radius) for k in small]).reshape(-1, 2)
+    return np.array([pot_centre(occupancy, _cells(labels, stats[k], k), radius) for k in small]).reshape(-1, 2)
+
+
+def _cells(labels: np.ndarray, stat: np.ndarray, k: int) -> np.ndarray:
+    """(K, 2) rows, columns of cluster ``k``, looked for in its bounding box only."""
+    x, y, w, h = (int(stat[c]) for c in (cv2.CC_STAT_LEFT, cv2.CC_STAT_TOP, cv2.CC_STAT_WIDTH, cv2.CC_STAT_HEIGHT))
+    return np.argwhere(labels[y:y + h, x:x + w] == k) + (y, x)
 
 
 def pot_centre(occupancy: OccupancyMap, cells: np.ndarray, radius: float) -> tuple[float, float]:
     """The map-frame centre of the pot whose side is ``cells`` ((K, 2) rows, columns): of the
     candidates within ``radius`` of the cells' centre of mass, the one whose distances to the cells
-    are nearest ``radius`` (least squares), with no seen-through cell inside the pot (a quarter
-    of its radius of slack for the grid's quantisation)."""
+    are nearest ``radius`` (least squares), each seen-through cell inside the pot (within three
+    quarters of its radius: slack for the grid's quantisation) costing more than any misfit."""
     res = occupancy.resolution
     pts = np.column_stack([occupancy.origin_x + (cells[:, 1] + 0.5) * res, occupancy.origin_y + (cells[:, 0] + 0.5) * res])
     mx, my = pts.mean(axis=0)
