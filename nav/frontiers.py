@@ -19,12 +19,8 @@ import numpy as np
 
 from nav.costmap.grid import INSCRIBED, CostGrid
 from nav.grid_geometry import paste
-from nav.occupancy import OccupancyMap
+from nav.occupancy import FREE_MAX, OccupancyMap
 from nav.planner import NEUTRAL, OBSTACLE, POT_HIGH, crossing_costs, propagate
-
-FREE_THRESH = 25
-"""map_server's free threshold (0.25) in the map's 0..100."""
-
 
 @dataclass(frozen=True)
 class Frontier:
@@ -40,7 +36,7 @@ class Frontier:
 def frontier_clusters(occupancy: OccupancyMap, min_cells: int) -> list[np.ndarray]:
     """Each frontier of ``min_cells`` cells or more, as (N, 2) cell indices (ix, iy)."""
     occ = occupancy.occupancy
-    free = (occ >= 0) & (occ <= FREE_THRESH)
+    free = (occ >= 0) & (occ <= FREE_MAX)
     unknown = (occ < 0).astype(np.uint8)
     near_unknown = cv2.dilate(unknown, np.array([[0, 1, 0], [1, 1, 1], [0, 1, 0]], np.uint8)) > 0
     cells = (free & near_unknown).astype(np.uint8)

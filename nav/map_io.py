@@ -45,10 +45,10 @@ import yaml
 from hw.atomic_file import write_atomic
 from hw.errors import InputError
 from hw.input_file import read_yaml
-from nav.occupancy import FREE, OCCUPIED, UNKNOWN, OccupancyMap
+from nav.occupancy import FREE, FREE_MAX, OCCUPIED, OCCUPIED_MIN, UNKNOWN, OccupancyMap
 
-OCCUPIED_THRESH = 0.65
-FREE_THRESH = 0.25
+OCCUPIED_THRESH = OCCUPIED_MIN / 100
+FREE_THRESH = FREE_MAX / 100
 PIXEL_OCCUPIED, PIXEL_FREE = 0, 254
 PIXEL_UNKNOWN = 128
 """p = 127/255 = 0.498: unknown to map_server under 0.65 / 0.25 (see the module docstring)."""

@@ -17,6 +17,10 @@ from nav.grid_geometry import GridGeometry
 UNKNOWN = -1
 FREE = 0
 OCCUPIED = 100
+OCCUPIED_MIN = 65
+"""map_server's occupied_thresh (0.65) in the map's 0..100: a cell at or above it is occupied."""
+FREE_MAX = 25
+"""map_server's free_thresh (0.25) in the map's 0..100: a known cell at or below it is free."""
 
 
 @dataclass(frozen=True)
@@ -45,7 +49,7 @@ class OccupancyMap:
         """Where the grid lies: world <-> cell <-> pixel (``nav.grid_geometry``)."""
         return GridGeometry.of(self.occupancy, self.resolution, self.origin_x, self.origin_y)
 
-    def occupied(self, thresh: int = 65) -> np.ndarray:
+    def occupied(self, thresh: int = OCCUPIED_MIN) -> np.ndarray:
         """Boolean [iy, ix] of cells at or above ``thresh`` percent (map_server's 0.65)."""
         return self.occupancy >= thresh
 

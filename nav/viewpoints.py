@@ -26,10 +26,7 @@ import cv2
 import numpy as np
 
 from nav.costmap.grid import INSCRIBED, UNKNOWN, CostGrid
-from nav.occupancy import OccupancyMap
-
-OCCUPIED = 65
-"""map_server's occupied threshold (0.65) in the map's 0..100."""
+from nav.occupancy import FREE_MAX, OccupancyMap
 
 
 @dataclass(frozen=True)
@@ -42,19 +39,14 @@ class Look:
     """Index of the pot looked at (``pot_blobs``)."""
 
 
-FREE_BELOW = 25
-"""map_server's free threshold (0.25) in the map's 0..100: a cell the lidar saw through."""
-POT_RADIUS = 0.10
-"""The pots' radius, m (spec/world.md: ~0.10 m); a robot's is ``PatrolConfig.pot_radius``."""
 FIT_STEP = 0.005
 """Spacing of the candidate centres the circle fit tries, m."""
 
 
-def pot_blobs(occupancy: OccupancyMap, max_size: float = 0.45, min_cells: int = 2,
-              radius: float = POT_RADIUS) -> np.ndarray:
+def pot_blobs(occupancy: OccupancyMap, radius: float, max_size: float = 0.45, min_cells: int = 2) -> np.ndarray:
     """(N, 2) map-frame centres of the pots the lidar saw: the small occupied clusters, each
-    fitted with a circle of ``radius`` (``pot_centre``)."""
-    occupied = (occupancy.occupancy >= OCCUPIED).astype(np.uint8)
+    fitted with a circle of the pots' ``radius`` (``pot_centre``)."""
+    occupied = occupancy.occupied().astype(np.uint8)
     n, labels, stats, _ = cv2.connectedComponentsWithStats(occupied, connectivity=8)
     res = occupancy.resolution
     small = [k for k in range(1, n) if stats[k, cv2.CC_STAT_AREA] >= min_cells
@@ -93,7 +85,7 @@ def _free_cells_near(occupancy: OccupancyMap, x: float, y: float, reach: float) 
     ix, iy, r = int((x - occupancy.origin_x) / res), int((y - occupancy.origin_y) / res), int(math.ceil(reach / res))
     y0, x0 = max(iy - r, 0), max(ix - r, 0)
     patch = occupancy.occupancy[y0:iy + r + 1, x0:ix + r + 1]
-    rows, cols = np.nonzero((patch >= 0) & (patch < FREE_BELOW))
+    rows, cols = np.nonzero((patch >= 0) & (patch <= FREE_MAX))
     return np.column_stack([occupancy.origin_x + (x0 + cols + 0.5) * res, occupancy.origin_y + (y0 + rows + 0.5) * res])
 
 

@@ -160,7 +160,7 @@ def estop(config: LupinConfig) -> Sample:
                 armed.clear()
 
         service.robot.hal.wheels.listeners.append(on_duties)
-        console = LinkClient(endpoint, config.link.robot, TOKEN)
+        console = LinkClient(endpoint, config.link.robot, clock=time.monotonic, token=TOKEN)
         rng = np.random.default_rng(0)
 
         def drive() -> bool:
@@ -197,7 +197,7 @@ def estop(config: LupinConfig) -> Sample:
 def link_bytes(config: LupinConfig) -> Sample:
     window = 10.0
     with live_runtime(config) as (service, server, endpoint):
-        console = LinkClient(endpoint, config.link.robot, TOKEN)
+        console = LinkClient(endpoint, config.link.robot, clock=time.monotonic, token=TOKEN)
         try:
             _wait(lambda: console.view().connected, 10)
             time.sleep(2.0)
@@ -230,7 +230,7 @@ def jitter(config: LupinConfig) -> Sample:
         ticks.clear()
         time.sleep(window)
         without = _p95_dev(ticks, config)
-        consoles = [LinkClient(endpoint, config.link.robot, TOKEN) for _ in range(2)]
+        consoles = [LinkClient(endpoint, config.link.robot, clock=time.monotonic, token=TOKEN) for _ in range(2)]
         try:
             _wait(lambda: all(c.view().connected for c in consoles), 10)
             ticks.clear()

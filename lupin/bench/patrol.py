@@ -150,7 +150,8 @@ def slam_scale(config: LupinConfig) -> Sample:
         "last_over_first_p95": round(last["p95"] / first["p95"], 3),
         "moving_share": cost["slam_moving_share"], "first_tenth_moving_ms": cost["slam_first_tenth_moving_ms"],
         "last_tenth_moving_ms": cost["slam_last_tenth_moving_ms"],
-        "loop_closures": cost["slam_loop_closures"], "solves": cost["slam_solves"], "solve_ms": cost["slam_solve_ms"], "kept_mb": cost["slam_kept_mb"]})
+        "loop_closures": cost["slam_loop_closures"], "solves": cost["slam_solves"], "solve_ms": cost["slam_solve_ms"],
+        "kept_mb": cost["slam_kept_mb"]})
 
 
 @benchmark("patrol.no_strafe")

@@ -47,7 +47,7 @@ def console(
     else:
         endpoint = check_endpoint(connect, "--connect")
         token = token if token is not None else config.link.token
-    client = LinkClient(endpoint, config.link.robot, token)
+    client = LinkClient(endpoint, config.link.robot, clock=time.monotonic, token=token)
     try:
         make_app(client.view, client).run()
     finally:

@@ -99,7 +99,7 @@ def map_over_link(endpoint: str, robot: str):
     from mission.link.server import check_endpoint
     from nav.occupancy import OccupancyMap
 
-    client = LinkClient(check_endpoint(endpoint, "--connect"), robot)
+    client = LinkClient(check_endpoint(endpoint, "--connect"), robot, clock=time.monotonic)
     try:
         end = time.monotonic() + LINK_MAP_WAIT
         while time.monotonic() < end:

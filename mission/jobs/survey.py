@@ -170,7 +170,7 @@ class SurveyRun:
         self.phase = Phase.LOOK
         if occupancy is None:
             return
-        self.pots = pot_blobs(occupancy, cfg.pot_max_size, radius=self.config.patrol.pot_radius)
+        self.pots = pot_blobs(occupancy, self.config.patrol.pot_radius, cfg.pot_max_size)
         self.looks = looks(self.pots, self.nav.global_costmap.grid, cfg.standoff)
         self.lanes = lanes(self.looks, lattice_angle(self.pots))
 

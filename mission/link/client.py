@@ -12,9 +12,9 @@ import math
 
 import json
 import threading
-import time
 import zlib
 from collections import deque
+from typing import Callable
 
 import numpy as np
 import zenoh
@@ -24,13 +24,16 @@ from mission.link.view import GridView, PotView, RobotView
 from mission.link.wire import Grid, apply_grid, cmd_key, dumps, tel_key
 
 STALE_S = 1.0
-"""No telemetry for this long (wall time, at the console) and the view says disconnected."""
+"""No telemetry for this long (on the console's clock) and the view says disconnected."""
 LOG_LINES = 200
 
 
 class LinkClient:
-    def __init__(self, endpoint: str, robot: str, token: str = "", timeout: float = 3.0):
-        self.robot, self.token, self.timeout = robot, token, timeout
+    def __init__(self, endpoint: str, robot: str, *, clock: Callable[[], float], token: str = "",
+                 timeout: float = 3.0):
+        """``clock``: the console's seconds, which a link's staleness is measured on (a console
+        has no runtime clock of its own: the command line gives it the wall clock)."""
+        self.robot, self.token, self.timeout, self.clock = robot, token, timeout, clock
         self.session = zenoh.open(session_config("connect", endpoint))
         self._lock = threading.Lock()
         self._view = RobotView(robot=robot)
@@ -48,7 +51,7 @@ class LinkClient:
         try:
             with self._lock:
                 self._fold(topic, data)
-                self._last_rx = time.monotonic()
+                self._last_rx = self.clock()
                 self.received[topic] = self.received.get(topic, 0) + 1
         except Exception:  # a garbled message is dropped, not raised into Zenoh
             self.bad_messages += 1
@@ -100,7 +103,7 @@ class LinkClient:
     def view(self) -> RobotView:
         """The latest view (the same object, updated in place; read it on the UI's timer)."""
         with self._lock:
-            self._view.connected = time.monotonic() - self._last_rx < STALE_S
+            self._view.connected = self.clock() - self._last_rx < STALE_S
             return self._view
 
     # --- commands ------------------------------------------------------------------------------

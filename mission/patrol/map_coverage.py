@@ -9,10 +9,7 @@ Better to say so before the robot moves, naming the pot.
 from __future__ import annotations
 
 from mission.patrol.mission_file import Mission
-from nav.occupancy import OccupancyMap
-
-FREE_THRESH = 25
-"""map_server's free threshold (0.25) in the map's 0..100."""
+from nav.occupancy import FREE_MAX, OccupancyMap
 
 
 def uncovered_pots(mission: Mission, occupancy: OccupancyMap) -> list[str]:
@@ -27,7 +24,7 @@ def uncovered_pots(mission: Mission, occupancy: OccupancyMap) -> list[str]:
         else:
             value = int(occupancy.occupancy[iy, ix])
             why = ("is on ground the map never saw" if value < 0 else
-                   "is inside an obstacle on the map" if value > FREE_THRESH else "")
+                   "is inside an obstacle on the map" if value > FREE_MAX else "")
         if why:
             out.append(f"pot {pot.id}: its approach pose ({x:.2f}, {y:.2f}) {why}")
     return out

@@ -97,7 +97,7 @@ class PotFinder:
         occupancy = getattr(self.nav.localisation, "occupancy", None)
         if occupancy is None:
             return first
-        blobs = pot_blobs(occupancy, radius=self.config.pot_radius)
+        blobs = pot_blobs(occupancy, self.config.pot_radius)
         near = blobs[np.hypot(blobs[:, 0] - pot.x, blobs[:, 1] - pot.y) <= self.config.search_radius] if len(blobs) else blobs
         out = [Pose2D(v.x, v.y, v.yaw) for standoff in (self.mission.standoff, self.mission.standoff + SEARCH_BACK)
                for v in looks(near, grid, standoff)]

@@ -63,7 +63,7 @@ def test_a_console_reads_the_history_of_a_running_service(tmp_path, sqlite_histo
     stop = threading.Event()
     thread = threading.Thread(target=run_service, args=(service, stop, server.close), daemon=True)
     thread.start()
-    c = LinkClient(endpoint, "mirte", "tok", timeout=25.0)
+    c = LinkClient(endpoint, "mirte", clock=time.monotonic, token="tok", timeout=25.0)
     try:
         got, error = c.history("changes")
         assert error is None and [(x["pot"], x["kind"]) for x in got["changes"]] == [("P01", "pest_new"),

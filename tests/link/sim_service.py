@@ -74,6 +74,6 @@ def runtime(tmp_path: Path):
 
 
 def client(endpoint: str, token: str = TOKEN) -> LinkClient:
-    c = LinkClient(endpoint, "mirte", token, timeout=10.0)
+    c = LinkClient(endpoint, "mirte", clock=time.monotonic, token=token, timeout=10.0)
     assert wait_for(lambda: c.view().connected), "no telemetry"
     return c

@@ -6,6 +6,7 @@ import os
 import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -26,7 +27,7 @@ def test_serve_prints_its_token_answers_a_console_and_stops_on_sigterm(tmp_path)
         line = proc.stdout.readline()
         assert f"on {endpoint}" in line and "operator token" in line
         token = line.rsplit(" ", 1)[-1].strip()
-        c = LinkClient(endpoint, "mirte", token, timeout=10.0)
+        c = LinkClient(endpoint, "mirte", clock=time.monotonic, token=token, timeout=10.0)
         try:
             assert wait_for(lambda: c.view().connected and c.view().controllers, 20)
             assert c.send("arm_preset", name="tuck") is None

@@ -12,6 +12,9 @@ from nav.costmap.inflation import InflationLayer
 from nav.occupancy import OccupancyMap
 from nav.viewpoints import Look, lanes, lattice_angle, looks, pot_blobs
 
+POT_RADIUS = 0.10
+"""The pots drawn below (the sim's, spec/world.md)."""
+
 
 def greenhouse(angle: float = 0.0) -> tuple[OccupancyMap, list[tuple[float, float]]]:
     """A 6 x 5 m map, walls round it, 3 x 2 pots 1 m apart on a lattice turned by ``angle``;
@@ -38,7 +41,7 @@ def costmap_of(m: OccupancyMap) -> CostGrid:
 
 def test_pots_are_the_small_clusters_and_the_walls_are_not():
     m, centres = greenhouse()
-    blobs = pot_blobs(m)
+    blobs = pot_blobs(m, POT_RADIUS)
     assert len(blobs) == 6
     for px, py in centres:  # the arc is one side, its centre of mass 6 cm off; the fit half a cell
         assert np.hypot(blobs[:, 0] - px, blobs[:, 1] - py).min() < 0.03
@@ -49,8 +52,8 @@ def test_a_pot_seen_from_one_side_is_centred_behind_its_arc_not_in_front():
     (free) cells inside is the mirror image on the lidar's side."""
     m, centres = greenhouse()
     arc_only = OccupancyMap(np.where(m.occupancy == 100, 100, -1).astype(np.int8), 0.05, 0.0, 0.0)
-    ambiguous = pot_blobs(arc_only)
-    fitted = pot_blobs(m)
+    ambiguous = pot_blobs(arc_only, POT_RADIUS)
+    fitted = pot_blobs(m, POT_RADIUS)
     d = lambda b: np.array([np.hypot(b[:, 0] - px, b[:, 1] - py).min() for px, py in centres])
     assert d(fitted).max() < 0.03
     assert d(ambiguous).max() > d(fitted).max()  # with nothing seen through, no side wins
@@ -59,12 +62,12 @@ def test_a_pot_seen_from_one_side_is_centred_behind_its_arc_not_in_front():
 @pytest.mark.parametrize("angle", [0.0, 0.3, -0.2])
 def test_the_lattice_angle_is_the_rows_direction_folded_to_a_right_angle(angle):
     m, _ = greenhouse(angle)
-    assert lattice_angle(pot_blobs(m)) == pytest.approx(angle, abs=0.05)
+    assert lattice_angle(pot_blobs(m, POT_RADIUS)) == pytest.approx(angle, abs=0.05)
 
 
 def test_looks_face_their_pot_from_each_side_the_robot_fits():
     m, _ = greenhouse()
-    blobs = pot_blobs(m)
+    blobs = pot_blobs(m, POT_RADIUS)
     cm = costmap_of(m)
     views = looks(blobs, cm, 0.5)
     assert all(int(cm.cost_at(v.x, v.y)) < INSCRIBED for v in views)

@@ -21,7 +21,7 @@ pytestmark = pytest.mark.slow
 def press(endpoint, keys, then=lambda: True, timeout=10.0):
     """Press ``keys`` in a console attached to the runtime, once its view is connected; then
     wait (in the app) until ``then()``."""
-    client = LinkClient(endpoint, "mirte", TOKEN, timeout=10.0)
+    client = LinkClient(endpoint, "mirte", clock=time.monotonic, token=TOKEN, timeout=10.0)
 
     async def go():
         app = make_app(client.view, client)
@@ -66,7 +66,7 @@ def test_every_binding_moves_the_sim_robot(runtime):
     assert press(endpoint, ["c", "n"]) and slam.spawned == spawned  # asked, declined
     assert press(endpoint, ["c", "y"], lambda: slam.spawned == spawned + 1, timeout=5)  # the map reset: SLAM respawned
     # arm and gripper: the patrol must not be moving the arm, so abort it first (through the link)
-    client = LinkClient(endpoint, "mirte", TOKEN, timeout=10.0)
+    client = LinkClient(endpoint, "mirte", clock=time.monotonic, token=TOKEN, timeout=10.0)
     try:
         assert client.send("mission_abort") is None
     finally:

@@ -44,7 +44,7 @@ def test_the_console_reads_a_served_history(tmp_path):
     stop = threading.Event()
     thread = threading.Thread(target=run_service, args=(service, stop, server.close), daemon=True)
     thread.start()
-    client = LinkClient(endpoint, "mirte", TOKEN, timeout=10.0)
+    client = LinkClient(endpoint, "mirte", clock=time.monotonic, token=TOKEN, timeout=10.0)
     mission = mission_from_world(world).model_copy(update={"name": "m"})
     mission = json.loads(json.dumps(mission.model_copy(update={"pots": mission.pots[:2]}).model_dump()))
     seen = {}

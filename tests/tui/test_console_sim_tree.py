@@ -24,7 +24,7 @@ def plain(app) -> list[str]:
 
 
 def test_the_real_tree_shows_its_running_branch_also_paused(runtime):
-    client = LinkClient(runtime.endpoint, "mirte", TOKEN, timeout=10.0)
+    client = LinkClient(runtime.endpoint, "mirte", clock=time.monotonic, token=TOKEN, timeout=10.0)
     seen = {}
 
     async def go():

@@ -26,12 +26,11 @@ from textual.widget import Widget
 
 from mission.link.view import GridView, RobotView
 from nav.grid_geometry import GridGeometry
+from nav.occupancy import FREE_MAX, OCCUPIED_MIN
 from tui.halfblocks import half_block_rows
 from tui.widgets.map_window import Frame, MapWindow
 
 UNKNOWN, FREE, MAYBE, OCCUPIED = (28, 28, 36), (70, 74, 70), (110, 110, 104), (235, 235, 225)
-OCCUPIED_AT, FREE_BELOW = 65, 25
-"""map_server's trinary thresholds (occupied 0.65, free 0.25), in the grid's 0..100."""
 COST = np.array([200, 60, 40], dtype=np.float32)
 COST_ALPHA = 0.6
 PLAN, GOAL, ROBOT, HEADING, SCAN = (250, 210, 60), (230, 80, 230), (60, 200, 255), (255, 255, 255), (255, 80, 160)
@@ -46,9 +45,9 @@ ROBOT_HALF, NOSE = 0.15, 0.35
 
 _LUT = np.empty((256, 3), np.uint8)  # int8 cell value (as uint8) -> colour
 _LUT[:] = UNKNOWN
-_LUT[0:FREE_BELOW] = FREE
-_LUT[FREE_BELOW:OCCUPIED_AT] = MAYBE
-_LUT[OCCUPIED_AT:101] = OCCUPIED
+_LUT[0:FREE_MAX + 1] = FREE  # map_server's trinary thresholds (nav.occupancy)
+_LUT[FREE_MAX + 1:OCCUPIED_MIN] = MAYBE
+_LUT[OCCUPIED_MIN:101] = OCCUPIED
 
 
 def pot_colour(status: str, anomalies) -> tuple[int, int, int]:
@@ -165,7 +164,7 @@ def map_pixels(view: RobotView, width: int, height: int, window: MapWindow | Non
     if view.grid is not None and view.grid.data.size:
         cells, on = cv.pool(view.grid)
         cv.rgb[on] = _LUT[cells[on].view(np.uint8)]
-        occupied = on & (cells >= OCCUPIED_AT)
+        occupied = on & (cells >= OCCUPIED_MIN)
     if view.costmap is not None and view.costmap.data.size:
         cost, on = cv.pool(view.costmap)
         shade = on & (cost > 0)
