@@ -2,22 +2,12 @@
 the robot, and the client's clock is the test's, so staleness is judged without waiting."""
 from __future__ import annotations
 
-import time
-
 import zenoh
 
 from mission.link.client import STALE_S, LinkClient
 from mission.link.server import free_endpoint, session_config
 from mission.link.wire import tel_key
-
-
-def wait_for(cond, seconds=10.0):
-    end = time.monotonic() + seconds
-    while time.monotonic() < end:
-        if cond():
-            return True
-        time.sleep(0.01)
-    return False
+from tests.link.sim_service import wait_for
 
 
 def test_the_view_is_disconnected_once_no_telemetry_came_for_the_stale_time_on_the_consoles_clock():
