@@ -26,6 +26,7 @@ import cv2
 import numpy as np
 
 from nav.costmap.grid import INSCRIBED, UNKNOWN, CostGrid
+from nav.grid_geometry import GridGeometry
 from nav.occupancy import FREE_MAX, OccupancyMap
 
 
@@ -65,28 +66,28 @@ def pot_centre(occupancy: OccupancyMap, cells: np.ndarray, radius: float) -> tup
     candidates within ``radius`` of the cells' centre of mass, the one whose distances to the cells
     are nearest ``radius`` (least squares), each seen-through cell inside the pot (within three
     quarters of its radius: slack for the grid's quantisation) costing more than any misfit."""
-    res = occupancy.resolution
-    pts = np.column_stack([occupancy.origin_x + (cells[:, 1] + 0.5) * res, occupancy.origin_y + (cells[:, 0] + 0.5) * res])
+    g = occupancy.geometry
+    pts = np.column_stack(g.centre_of(cells[:, 1], cells[:, 0]))
     mx, my = pts.mean(axis=0)
     n = math.ceil(radius / FIT_STEP)
     cx, cy = np.meshgrid(mx + np.arange(-n, n + 1) * FIT_STEP, my + np.arange(-n, n + 1) * FIT_STEP)
     keep = np.hypot(cx - mx, cy - my) <= n * FIT_STEP  # the centre of mass is always a candidate
     cand = np.column_stack([cx[keep], cy[keep]])
     misfit = ((np.hypot(pts[None, :, 0] - cand[:, None, 0], pts[None, :, 1] - cand[:, None, 1]) - radius) ** 2).mean(axis=1)
-    free = _free_cells_near(occupancy, mx, my, 2 * radius)
+    free = _free_cells_near(occupancy, g, mx, my, 2 * radius)
     inside = np.hypot(free[None, :, 0] - cand[:, None, 0], free[None, :, 1] - cand[:, None, 1]) < 0.75 * radius
     k = int(np.argmin(misfit + inside.sum(axis=1) * radius ** 2))
     return float(cand[k, 0]), float(cand[k, 1])
 
 
-def _free_cells_near(occupancy: OccupancyMap, x: float, y: float, reach: float) -> np.ndarray:
+def _free_cells_near(occupancy: OccupancyMap, g: GridGeometry, x: float, y: float, reach: float) -> np.ndarray:
     """(M, 2) map-frame centres of the free cells within a square of half-side ``reach``."""
-    res = occupancy.resolution
-    ix, iy, r = int((x - occupancy.origin_x) / res), int((y - occupancy.origin_y) / res), int(math.ceil(reach / res))
+    ix, iy = (int(v) for v in g.cell_of(x, y))
+    r = math.ceil(reach / g.resolution)
     y0, x0 = max(iy - r, 0), max(ix - r, 0)
     patch = occupancy.occupancy[y0:iy + r + 1, x0:ix + r + 1]
     rows, cols = np.nonzero((patch >= 0) & (patch <= FREE_MAX))
-    return np.column_stack([occupancy.origin_x + (x0 + cols + 0.5) * res, occupancy.origin_y + (y0 + rows + 0.5) * res])
+    return np.column_stack(g.centre_of(x0 + cols, y0 + rows))
 
 
 def lattice_angle(pots: np.ndarray) -> float:
