@@ -23,6 +23,7 @@ from hw.input_file import read_yaml
 from mission.history.config import HistoryConfig
 from mission.link.config import LinkConfig
 from mission.patrol.config import PatrolConfig, SurveyConfig
+from mission.runtime.settings import RuntimeConfig
 from nav.config import NavConfig
 from perception.config import PerceptionConfig
 from sim.config import SimConfig
@@ -54,6 +55,8 @@ class LupinConfig(BaseModel):
     """The operator link (Zenoh): robot name, endpoint, token, telemetry rates."""
     history: HistoryConfig = HistoryConfig()
     """The patrol history (spec/history.md): where every patrol is recorded."""
+    runtime: RuntimeConfig = RuntimeConfig()
+    """Which backend this machine runs by default, and where the runtime keeps its state."""
 
     @model_validator(mode="after")
     def _monitor_covers_the_footprint(self) -> "LupinConfig":
