@@ -39,6 +39,7 @@ from hw.drivers.pca9685 import Pca9685
 from hw.drivers.quadrature import QuadratureEncoders
 from hw.drivers.rplidar import RplidarC1
 from hw.errors import InputError
+from hw.estop import warn_unverified_polarity
 from hw.interfaces import DeviceError, Hal
 from hw.wall_clock import WallClock
 
@@ -80,6 +81,7 @@ class HwBackend:
         self.button = GpioButton(gpio_request(dev.estop.chip, [dev.estop.line], pull_up=dev.estop.pull_up),
                                  dev.estop.line, config.estop.engaged_level)
         self._closers.append(self.button.close)
+        warn_unverified_polarity(config.estop, log)
         engaged = config.estop.engaged_level
         self.wheels = HBridgeWheels(self.pwm, dev.pwm.channels, dev.pwm.reversal_pause_s, sleep,
                                     inhibit=lambda: self.button.peek() == engaged)

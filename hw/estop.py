@@ -14,8 +14,9 @@ Two paths out of this module, on purpose:
   tree, LEDs, telemetry) and appends to ``events`` only when the state changes (the report's
   ``estop_events``).
 
-Polarity (``EStopConfig.engaged_level``) is NOT verified on the robot (seed). It is logged loudly
-at start-up precisely so someone checks it: press the button and watch the state go true; if it
+Polarity (``EStopConfig.engaged_level``) is NOT verified on the robot (seed). The hardware
+backend logs it loudly when it opens the button (``warn_unverified_polarity``; a simulation has
+no pin to check, so it says nothing) precisely so someone checks it: press the button and watch the state go true; if it
 does not, flip ``LUPIN_HW__ESTOP__ENGAGED_LEVEL``. A safety interlock is only real if pressing
 the button actually stops the robot.
 
@@ -31,6 +32,21 @@ from hw.config import EStopConfig
 from hw.interfaces import DeviceError, EStopButton
 
 EStopCallback = Callable[[float, bool], None]
+
+
+def warn_unverified_polarity(config: EStopConfig, log: logging.Logger) -> None:
+    """The start-up banner of the hardware backend: which pin level is taken to mean PRESSED."""
+    level = config.engaged_level
+    bar = "!" * 72
+    log.warning(
+        "\n%s\n"
+        "E-STOP POLARITY ASSUMED, UNVERIFIED ON THE ROBOT: pin level %d means PRESSED "
+        "(level %d means released).\n"
+        "Check it: press the physical e-stop and confirm the e-stop state goes ENGAGED.\n"
+        "If it does not, flip it: LUPIN_HW__ESTOP__ENGAGED_LEVEL=%d (or hw.estop.engaged_level "
+        "in the config file).\n%s",
+        bar, level, 1 - level, 1 - level, bar,
+    )
 
 
 class EStopBridge:
@@ -49,20 +65,6 @@ class EStopBridge:
         base controller saw still latches the mission (``mission.patrol.holds``)."""
         self._live = False
         self._read_failing = False
-        self._log_polarity()
-
-    def _log_polarity(self) -> None:
-        level = self.config.engaged_level
-        bar = "!" * 72
-        self.log.warning(
-            "\n%s\n"
-            "E-STOP POLARITY ASSUMED, UNVERIFIED ON THE ROBOT: pin level %d means PRESSED "
-            "(level %d means released).\n"
-            "Check it: press the physical e-stop and confirm the e-stop state goes ENGAGED.\n"
-            "If it does not, flip it: LUPIN_HW__ESTOP__ENGAGED_LEVEL=%d (or hw.estop.engaged_level "
-            "in the config file).\n%s",
-            bar, level, 1 - level, 1 - level, bar,
-        )
 
     def set_soft(self, engaged: bool) -> None:
         """The operator's soft stop (console STOP, the ``soft_estop`` event)."""

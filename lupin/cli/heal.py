@@ -15,22 +15,18 @@ import importlib
 import importlib.util
 import os
 import sys
-from enum import Enum
+from typing import Optional
 
 import numpy as np
 import typer
 
 from hw.controller_manager import ControllerManager, ControllerState
 from hw.errors import InputError
+from lupin.cli.backend import Backend, announce, backend_option, resolve_backend
 from mission.runtime.config import LupinConfig
 from mission.runtime.heal import AUTO_HOME_ENV, HealReport, auto_home_enabled, boot_heal
 
 BROKEN = (ControllerState.MISSING, ControllerState.UNCONFIGURED, ControllerState.INACTIVE)
-
-
-class Backend(str, Enum):
-    sim = "sim"
-    hw = "hw"
 
 
 def sim_boot_race(names: tuple[str, ...], seed: int) -> dict[str, ControllerState]:
@@ -88,7 +84,7 @@ def print_report(report: HealReport) -> None:
 
 def heal(
     ctx: typer.Context,
-    backend: Backend = typer.Option(Backend.sim, "--backend", help="sim (the MuJoCo greenhouse) or hw (the robot)."),
+    backend: Optional[Backend] = backend_option(),
 ) -> int:
     """Heal the five controllers to active, then park the arm at home (boot one-shot)."""
     from lupin.cli.sim import run_config
@@ -97,6 +93,8 @@ def heal(
         typer.echo(f"{AUTO_HOME_ENV}=false: heal and home skipped")
         raise typer.Exit(0)
     config = run_config(ctx)
+    backend = resolve_backend(backend, config)
+    announce("heal", backend)
     robot, close = (_sim_runtime if backend is Backend.sim else _hw_runtime)(config)
     try:
         report = boot_heal(robot, os.environ)

@@ -12,22 +12,17 @@ from __future__ import annotations
 import signal
 import sys
 import time
-from enum import Enum
 from pathlib import Path
 from typing import Optional
 
 import typer
 
 from hw.errors import InputError
+from lupin.cli.backend import Backend, announce, backend_option, resolve_backend
 from lupin.cli.sim import run_config, world_or_default
 from mission.runtime.config import with_overrides, with_seed
 
 DEFAULT_REPORT = Path("lupin-report") / "report.json"
-
-
-class Backend(str, Enum):
-    sim = "sim"
-    hw = "hw"
 
 
 def check_report(report: Path) -> None:
@@ -65,6 +60,7 @@ def surveyed_patrol(config, backend: Backend, world: Optional[Path], events: Opt
     if backend is Backend.hw:
         if world is not None or events is not None:
             raise InputError("lupin patrol --backend hw --survey: --world and --events are for the sim")
+        announce("patrol", backend)
         survey_run, sim_run, name = start_hw_survey(config), None, "greenhouse-survey"
     else:
         from mission.jobs.sim_survey import start_sim_survey
@@ -72,6 +68,7 @@ def surveyed_patrol(config, backend: Backend, world: Optional[Path], events: Opt
 
         w = world_or_default(world)
         script = [] if events is None else load_events(events, config, w)
+        announce("patrol", backend, w)
         (survey_run, sim_run), name = start_sim_survey(w, config), f"{w.name}-survey"
     t0 = time.perf_counter()
     try:
@@ -134,7 +131,7 @@ def patrol(
     mission: Optional[Path] = typer.Option(None, "--mission", help="Mission file (default: every pot of the world)."),
     events: Optional[Path] = typer.Option(None, "--events", help="Events file (spec/events.md): timed operator actions and faults, sim only."),
     report: Path = typer.Option(DEFAULT_REPORT, "--report", help="Report JSON to write; images, map, config and run.png go beside it."),
-    backend: Backend = typer.Option(Backend.sim, "--backend", help="sim (MuJoCo greenhouse) or hw (the robot)."),
+    backend: Optional[Backend] = backend_option(),
     realtime: bool = typer.Option(False, "--realtime", help="Run the sim at wall-clock pace instead of as fast as possible."),
     seed: Optional[int] = typer.Option(None, "--seed", help="Sim seed (overrides config)."),
     record: bool = typer.Option(False, "--record", help="Also record the run for Foxglove: run.mcap beside the report."),
@@ -152,6 +149,7 @@ def patrol(
     from mission.patrol.mission_file import load_mission, mission_from_world
 
     config = run_config(ctx) if seed is None else with_seed(run_config(ctx), seed)
+    backend = resolve_backend(backend, config)
     if realtime:
         config = with_overrides(config, {"sim": {"realtime": True}})
     if saved_map is not None:
@@ -169,6 +167,7 @@ def patrol(
         m = load_mission(mission)
         check_map(m, saved_map)
         check_report(report)
+        announce("patrol", backend)
         store = open_patrol_history(config, history)  # every input checked; only now does anything start
         run = start_hw_patrol(m, config, report, time.perf_counter, store)
     else:  # the sim path: only here is the simulator loaded
@@ -180,6 +179,7 @@ def patrol(
         check_map(m, saved_map)
         script = [] if events is None else load_events(events, config, w)
         check_report(report)
+        announce("patrol", backend, w)
         store = open_patrol_history(config, history)
         run = start_sim_patrol(w, m, config, report, time.perf_counter, script, history=store)
     m = run.tree.mission

@@ -1,6 +1,6 @@
 """`lupin serve`: the runtime as a long-running service that consoles attach to over Zenoh.
 
-``--backend sim`` (default) runs the simulated greenhouse at wall-clock pace; ``--backend hw``
+``--backend sim`` (the default unless the config's ``runtime.backend`` says ``hw``) runs the simulated greenhouse at wall-clock pace; ``--backend hw``
 the robot's devices. ``--listen ENDPOINT`` (default ``link.listen``) is where consoles connect;
 no multicast scouting. The operator token is ``link.token`` or, when that is empty, a random
 one printed at start-up. Ctrl-C or SIGTERM stops it cleanly (a running patrol is finished
@@ -19,7 +19,7 @@ from typing import Optional
 import typer
 
 from hw.errors import InputError
-from lupin.cli.patrol import Backend
+from lupin.cli.backend import Backend, announce, backend_option, resolve_backend
 from lupin.cli.sim import run_config, world_or_default
 from mission.runtime.config import with_overrides
 
@@ -28,7 +28,7 @@ DEFAULT_RUNS = Path("lupin-runs")
 
 def serve(
     ctx: typer.Context,
-    backend: Backend = typer.Option(Backend.sim, "--backend", help="sim (MuJoCo greenhouse, real time) or hw (the robot)."),
+    backend: Optional[Backend] = backend_option("sim (MuJoCo greenhouse, real time) or hw (the robot)"),
     world: Optional[Path] = typer.Option(None, "--world", help="World file for the sim (default: the built-in greenhouse)."),
     listen: Optional[str] = typer.Option(None, "--listen", help="Zenoh endpoint to listen on, e.g. tcp/0.0.0.0:7447 (default: link.listen)."),
     runs: Path = typer.Option(DEFAULT_RUNS, "--runs", help="Each patrol's report goes to RUNS/<mission>-<k>/."),
@@ -46,11 +46,13 @@ def serve(
     from mission.link.server import LinkServer, check_endpoint
 
     config = run_config(ctx)
+    backend = resolve_backend(backend, config)
     check_endpoint(listen or config.link.listen, "--listen")
     if backend is Backend.hw and (world is not None or fast):
         raise InputError("lupin serve --backend hw: --world and --fast are for the sim")
     if backend is Backend.sim:
         world_file = world_or_default(world)  # checked before anything starts
+    announce("serve", backend, world_file if backend is Backend.sim else None)
     store = open_patrol_history(config, history)
     if backend is Backend.hw:
         service = start_hw_service(config, runs, time.perf_counter, store)

@@ -10,7 +10,7 @@ from typing import Optional
 import typer
 
 from hw.errors import InputError
-from lupin.cli.patrol import Backend
+from lupin.cli.backend import Backend, announce, backend_option, resolve_backend
 from lupin.cli.sim import run_config, world_or_default
 
 DEFAULT_DIR = Path("lupin-survey")
@@ -30,7 +30,7 @@ def survey(
     ctx: typer.Context,
     world: Optional[Path] = typer.Option(None, "--world", help="World file for the sim (default: the built-in "
                                          "greenhouse); only builds the sim, the survey never reads its pots."),
-    backend: Backend = typer.Option(Backend.sim, "--backend", help="sim (MuJoCo greenhouse) or hw (the robot)."),
+    backend: Optional[Backend] = backend_option(),
     output: Path = typer.Option(DEFAULT_DIR / "mission.yaml", "-o", "--output", help="The mission file to write."),
     map_out: Path = typer.Option(DEFAULT_DIR / "map.yaml", "--map-out", help="The map to write (map_server YAML + PGM)."),
     report: Path = typer.Option(DEFAULT_DIR / "survey.json", "--report", help="The survey's report (JSON); "
@@ -40,16 +40,19 @@ def survey(
     from mission.jobs.survey import run_to_end, start_hw_survey, write_survey
 
     config = run_config(ctx)
+    backend = resolve_backend(backend, config)
     paths = [_output(output, (".yaml", ".yml"), "the mission", "-o"), _output(map_out, (".yaml", ".yml"), "a map", "--map-out"),
              _output(report, (".json",), "the report", "--report")]
     if backend is Backend.hw:
         if world is not None:
             raise InputError("lupin survey --backend hw: --world is for the sim (the robot surveys its real greenhouse)")
+        announce("survey", backend)
         run, name = start_hw_survey(config), "greenhouse-survey"
     else:
         from mission.jobs.sim_survey import start_sim_survey
 
         w = world_or_default(world)
+        announce("survey", backend, w)
         (run, _), name = start_sim_survey(w, config), f"{w.name}-survey"
     t0 = time.perf_counter()
     live = _Progress() if sys.stdout.isatty() else None

@@ -1,4 +1,5 @@
 """The whole stack on the hardware backend over device emulators, on the wall clock (no MuJoCo)."""
+import logging
 import time
 from contextlib import ExitStack
 
@@ -25,9 +26,11 @@ def stack():
         yield s
 
 
-def test_full_stack_on_emulated_hardware(stack, tmp_path):
+def test_full_stack_on_emulated_hardware(stack, tmp_path, caplog):
     emu = emulated_robot(stack, tmp_path)
-    backend = stack.enter_context(HwBackend(emu.config, **emu.boundaries()))
+    with caplog.at_level(logging.WARNING, logger="hw.backend"):
+        backend = stack.enter_context(HwBackend(emu.config, **emu.boundaries()))
+    assert any("E-STOP POLARITY ASSUMED" in r.getMessage() for r in caplog.records), "the robot must warn of the pin"
     hal = backend.hal
     robot = build_robot(LupinConfig(hw=emu.config), hal)
     robot.start()

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from hw.config import EStopConfig, HwConfig
-from hw.estop import EStopBridge
+from hw.estop import EStopBridge, warn_unverified_polarity
 from hw.interfaces import DeviceError, Twist
 from tests.fixtures import FakeButton, make_base_rig, quiet_logger
 
@@ -24,9 +24,16 @@ def test_polarity_from_config(engaged_level):
     assert bridge.engaged()
 
 
-def test_startup_logs_polarity_loudly(caplog):
-    with caplog.at_level(logging.WARNING, logger="hw.estop"):
+def test_the_bridge_itself_says_nothing_of_polarity(caplog):
+    """The banner is the hardware backend's (tests/hw/test_backend.py): a sim has no pin to check."""
+    with caplog.at_level(logging.WARNING):
         EStopBridge(EStopConfig(engaged_level=0), FakeButton(1))
+    assert not [r for r in caplog.records if "POLARITY" in r.getMessage()]
+
+
+def test_polarity_banner_is_loud(caplog):
+    with caplog.at_level(logging.WARNING, logger="hw.estop"):
+        warn_unverified_polarity(EStopConfig(engaged_level=0), logging.getLogger("hw.estop"))
     [record] = [r for r in caplog.records if r.name == "hw.estop"]
     assert record.levelno == logging.WARNING
     msg = record.getMessage()
