@@ -12,7 +12,9 @@ command on this robot is a 100 ms beat). Each tick, in this order:
 3. if the e-stop is engaged (read *now*, not the 5 Hz published state) or either stage of the
    seed's base chain (``pid_wheels_controller``, ``mirte_base_controller``) is not active, write
    all-zero duties and reset the PID: the wheels stop on the same tick the press is seen, and an
-   integrator charged before the stop cannot kick the robot on release;
+   integrator charged before the stop cannot kick the robot on release; while the e-stop holds,
+   every twist on the mux is voided (``TwistMux.discard_until``), so none sent before the
+   release drives the base after it;
 4. otherwise mecanum IK -> per-wheel PID -> ``duty = command / max_wheel_speed`` clipped to
    [-1, 1] and lifted past the motor dead-zone (``duty_dead_zone``) where the wheel is meant to
    turn, times ``motor_signs``, written to the wheel driver.
@@ -111,6 +113,7 @@ class BaseController:
 
         if self.estop.engaged():
             stop_reason = STOPPED_ESTOP
+            self.mux.discard_until(now)  # what was sent before the release never drives after it
         elif not all(self.controllers.is_active(n) for n in REQUIRED_CONTROLLERS):
             stop_reason = STOPPED_INACTIVE
         elif not measured_ok:

@@ -20,6 +20,10 @@ no pin to check, so it says nothing) precisely so someone checks it: press the b
 does not, flip ``LUPIN_HW__ESTOP__ENGAGED_LEVEL``. A safety interlock is only real if pressing
 the button actually stops the robot.
 
+The soft stop survives a restart (``hw.soft_stop_latch``): with a latch, the bridge starts
+engaged after a crash or when the operator left it engaged, and only ``set_soft(False)`` (an
+operator's release) clears it.
+
 Fail safe: if the button cannot be read (``DeviceError``/``OSError``: the GPIO line vanished, the
 sim backend failed), the bridge reports ENGAGED and logs it once per failure streak.
 """
@@ -30,6 +34,7 @@ from typing import Callable
 
 from hw.config import EStopConfig
 from hw.interfaces import DeviceError, EStopButton
+from hw.soft_stop_latch import SoftStopLatch
 
 EStopCallback = Callable[[float, bool], None]
 
@@ -50,11 +55,16 @@ def warn_unverified_polarity(config: EStopConfig, log: logging.Logger) -> None:
 
 
 class EStopBridge:
-    def __init__(self, config: EStopConfig, button: EStopButton, log: logging.Logger | None = None):
+    def __init__(self, config: EStopConfig, button: EStopButton, log: logging.Logger | None = None,
+                 latch: SoftStopLatch | None = None):
         self.config = config
         self.button = button
         self.log = log if log is not None else logging.getLogger(__name__)
-        self.soft = False
+        self.latch = latch
+        """Where the soft stop outlives the process (the runtime's state directory); None: memory only."""
+        self.soft = latch.open() if latch is not None else False
+        self.held_since_start = latch.reason if latch is not None else ""
+        """Why the soft stop came up engaged at start-up ('' if it did not, or once released)."""
         self.state = False
         """The last *published* state (5 Hz); ``engaged()`` is the live one."""
         self.events: list[tuple[float, bool]] = []
@@ -67,8 +77,18 @@ class EStopBridge:
         self._read_failing = False
 
     def set_soft(self, engaged: bool) -> None:
-        """The operator's soft stop (console STOP, the ``soft_estop`` event)."""
-        self.soft = bool(engaged)
+        """The operator's soft stop (console STOP, the ``soft_estop`` event), persisted at once."""
+        engaged = bool(engaged)
+        if not engaged:
+            self.held_since_start = ""
+        if engaged != self.soft and self.latch is not None:
+            self.latch.save(engaged)
+        self.soft = engaged
+
+    def close(self) -> None:
+        """A clean exit: the latch keeps the soft stop, and the next start is not taken for a crash."""
+        if self.latch is not None:
+            self.latch.close()
 
     def button_pressed(self) -> bool:
         """The button's state right now; an unreadable button counts as pressed (fail safe)."""

@@ -18,6 +18,11 @@ real source is silent the bus outputs a zero twist rather than the last stale co
 priority go to the source listed first in the config (deterministic, never random); a source at
 or below the guard's priority can never win.
 
+While the e-stop holds, the base controller calls ``discard_until(now)`` on every tick: a twist
+published before (or at) the last engaged tick never drives the base after the release, from any
+source (ISO 13850: releasing a stop never restarts motion by itself; a console still holding its
+stick after the release publishes again, and that fresh twist counts).
+
 A twist with a NaN or infinite component (a planner bug, a garbled console message) is dropped
 and logged, not passed on: it cannot refresh its source, so that source simply times out.
 """
@@ -49,6 +54,8 @@ class TwistMux:
         self._ranked = sorted(config.sources.items(), key=lambda kv: -kv[1].priority)
         self._timeout_ns = {name: _ns(src.timeout) for name, src in config.sources.items()}
         self._last: dict[str, tuple[int, Twist]] = {}
+        self._barrier_ns = -1
+        """Twists stamped at or before this (ns) are void: published while the e-stop held."""
 
     @property
     def sources(self) -> tuple[str, ...]:
@@ -71,9 +78,13 @@ class TwistMux:
 
     def is_live(self, source: str, now: float) -> bool:
         last = self._last.get(source)
-        if last is None:
+        if last is None or last[0] <= self._barrier_ns:
             return False
         return _ns(now) - last[0] <= self._timeout_ns[source]
+
+    def discard_until(self, now: float) -> None:
+        """Void every twist published up to ``now`` (the e-stop holds): none drives the base later."""
+        self._barrier_ns = max(self._barrier_ns, _ns(now))
 
     def select(self, now: float) -> tuple[Twist, str]:
         """The twist on the bus at ``now`` and the name of the source that owns it."""

@@ -82,6 +82,7 @@ class LinkClient:
             nearest = monitor.get("nearest")
             v.monitor_nearest = float(nearest) if isinstance(nearest, (int, float)) else math.inf
             v.estop_engaged, v.estop_latched = m["estop"]["engaged"], m["estop"]["latched"]
+            v.estop_why = m["estop"].get("why", "")
             b = m["battery"]
             v.battery_voltage = b["voltage"] if b["voltage"] is not None else float("nan")
             v.battery_percentage = b["percentage"] if b["percentage"] is not None else float("nan")

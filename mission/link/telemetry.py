@@ -61,7 +61,8 @@ class Telemetry:
                "velocity": [_r(tw.vx), _r(tw.vy), _r(tw.wz)], "mux": robot.base.source,
                "monitor": {"action": robot.monitor.verdict.action, "nearest": _r(robot.monitor.verdict.nearest)},
                "estop": {"engaged": robot.estop.engaged(),
-                         "latched": bool(s.run is not None and s.run.tree.holds.latched)},
+                         "latched": bool(s.run is not None and s.run.tree.holds.latched),
+                         "why": robot.estop.held_since_start},
                "battery": {"voltage": _r(volts, 2), "current": _r(amps, 2), "percentage": _r(power.state.percentage, 1),
                            "low": power.state.low}}
         self._post("state", lambda: dumps(msg))

@@ -84,6 +84,9 @@ class RobotView:
     """Its nearest point in the direction of travel, m."""
     estop_engaged: bool = False
     estop_latched: bool = False
+    estop_why: str = ""
+    """Why the soft stop came up engaged when the runtime started (a crash, or left engaged);
+    '' otherwise or once an operator released it."""
     battery_voltage: float = float("nan")
     battery_percentage: float = float("nan")
     battery_current: float = float("nan")

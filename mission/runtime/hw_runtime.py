@@ -12,6 +12,7 @@ from hw.backend import HwBackend
 from mission.runtime.config import LupinConfig
 from mission.runtime.navigation import attach_navigation
 from mission.runtime.robot import Robot, build_robot
+from mission.runtime.state_dir import state_directory
 from nav.navigator import Navigator
 
 
@@ -27,9 +28,10 @@ class HwRuntime:
 
 
 def start_hw_runtime(config: LupinConfig) -> HwRuntime:
+    state = state_directory(config.runtime, "hw")  # before any device opens: no latch, no start
     backend = HwBackend(config.hw)
     try:
-        robot = build_robot(config, backend.hal)
+        robot = build_robot(config, backend.hal, state=state)
         robot.start()
         return HwRuntime(backend, robot, attach_navigation(robot))
     except BaseException:

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Callable
 
 from arm.controller import ArmController
@@ -28,6 +29,7 @@ from hw.base_controller import BaseController
 from hw.collision_monitor import CollisionMonitor
 from hw.controller_manager import ControllerManager
 from hw.estop import EStopBridge
+from hw.soft_stop_latch import SoftStopLatch
 from hw.interfaces import Hal
 from hw.leds import LedStatus, pick_state
 from hw.power_policy import RATE as POWER_RATE
@@ -79,16 +81,20 @@ class Robot:
         self.scheduler.every("power", POWER_RATE, self.power.tick)
 
 
-def build_robot(config: LupinConfig, hal: Hal, controllers: ControllerManager | None = None) -> Robot:
-    """Assemble the hardware services on ``hal``; call ``start()`` to schedule them."""
+def build_robot(config: LupinConfig, hal: Hal, controllers: ControllerManager | None = None,
+                state: Path | None = None) -> Robot:
+    """Assemble the hardware services on ``hal``; call ``start()`` to schedule them. ``state``:
+    the runtime's state directory (the soft stop's latch lives there); None keeps it in memory."""
     hw = config.hw
     controllers = controllers or ControllerManager(hw.controllers)
     mux = TwistMux(hw.mux)
-    estop = EStopBridge(hw.estop, hal.estop_button, log)
+    estop = EStopBridge(hw.estop, hal.estop_button, log, None if state is None else SoftStopLatch(state, log))
     monitor = CollisionMonitor(hw.collision_monitor, hal.lidar, config.nav.costmap.robot_radius,
                                config.nav.navigator.lidar_mount, log)
     base = BaseController(hw.base, hal.wheels, hal.encoders, mux, estop, controllers, guard=monitor)
     leds = LedStatus(hw.leds, hal.leds)
     arm = ArmController(config.arm, hw.servos, hal.servos, controllers, log)
     power = PowerWatch(hw.devices.power, hal.power, log)
-    return Robot(config, hal, Scheduler(hal.clock), controllers, mux, estop, base, leds, arm, power, monitor)
+    robot = Robot(config, hal, Scheduler(hal.clock), controllers, mux, estop, base, leds, arm, power, monitor)
+    robot.closers.append(estop.close)
+    return robot

@@ -7,11 +7,14 @@ sim (the drive and navigate jobs, the patrol, the service, scenarios) starts her
 """
 from __future__ import annotations
 
+import shutil
 from dataclasses import dataclass
+from pathlib import Path
 
 from hw.controller_manager import ControllerManager
 from mission.runtime.config import LupinConfig
 from mission.runtime.robot import Robot, build_robot
+from mission.runtime.state_dir import state_directory
 from sim.backend import SimRobot
 from sim.world import World
 
@@ -20,16 +23,21 @@ from sim.world import World
 class SimRuntime:
     sim: SimRobot
     robot: Robot
+    state: Path
+    """The runtime's state directory: ``runtime.state_dir``, or this run's own temporary one."""
 
     def close(self) -> None:
         self.robot.close()
         self.sim.close()
+        if self.robot.config.runtime.state_dir is None:
+            shutil.rmtree(self.state, ignore_errors=True)
 
 
 def start_sim_runtime(world: World, config: LupinConfig) -> SimRuntime:
     """Build the sim and the services on it and schedule them (nothing has run yet)."""
     controllers = ControllerManager(config.hw.controllers)
     sim = SimRobot(world, config.sim, config.hw, controllers)
-    robot = build_robot(config, sim.hal, controllers)
+    state = state_directory(config.runtime, "sim")
+    robot = build_robot(config, sim.hal, controllers, state)
     robot.start()
-    return SimRuntime(sim, robot)
+    return SimRuntime(sim, robot, state)

@@ -98,6 +98,22 @@ def test_button_read_error_stops_the_wheels():
     assert np.all(rig.duty_log[-1][1] == 0)
 
 
+def test_a_twist_sent_before_the_release_never_drives_after_it():
+    """The autonomy's last command, still within its 0.5 s timeout at the release, is void: the
+    wheels stay still until a source speaks again."""
+    rig = make_base_rig(log=quiet_logger())
+    rig.scheduler.run_until(0.1)
+    rig.estop.set_soft(True)
+    rig.mux.publish("auto", Twist(0.2, 0, 0), 0.15)
+    rig.scheduler.run_until(0.2)
+    rig.estop.set_soft(False)
+    rig.scheduler.run_until(0.5)
+    assert all(np.all(d == 0) for t, d in rig.duty_log if t > 0.15)
+    rig.mux.publish("auto", Twist(0.2, 0, 0), 0.55)
+    rig.scheduler.run_until(0.6)
+    assert np.any(rig.base.last_duties != 0)
+
+
 # -- the randomized property ------------------------------------------------------------------
 
 SOURCES = ("joy", "manual", "auto")

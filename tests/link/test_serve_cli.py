@@ -24,6 +24,7 @@ def test_serve_prints_its_token_answers_a_console_and_stops_on_sigterm(tmp_path)
     proc = subprocess.Popen([lupin, "serve", "--listen", endpoint, "--runs", str(tmp_path)],
                             stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True, env={**os.environ, "LUPIN_LINK__TOKEN": "", "LUPIN_LINK__COMMAND_TIMEOUT": "8"})
     try:
+        assert proc.stdout.readline().startswith("lupin serve: sim backend, world 'default'")
         line = proc.stdout.readline()
         assert f"on {endpoint}" in line and "operator token" in line
         token = line.rsplit(" ", 1)[-1].strip()
@@ -71,3 +72,51 @@ def test_console_bad_options_are_exit_2(capsys, args, words):
     assert main(["console", *args]) == 2
     err = capsys.readouterr().err
     assert words in err and "Traceback" not in err
+
+
+@pytest.mark.slow
+def test_a_crashed_service_comes_back_with_the_soft_stop_engaged(tmp_path):
+    """ISO 13850: a restart never releases a stop. The operator engages the soft stop, the
+    service is killed (SIGKILL: no clean exit), systemd starts it again: it comes back engaged,
+    and only a console's release clears it; a clean stop after that starts released."""
+    endpoint = free_endpoint()
+    lupin = str(Path(sys.executable).parent / "lupin")
+    env = {**os.environ, "LUPIN_LINK__TOKEN": "t0k", "LUPIN_LINK__COMMAND_TIMEOUT": "8",
+           "LUPIN_RUNTIME__STATE_DIR": str(tmp_path / "state")}
+
+    def start():
+        proc = subprocess.Popen([lupin, "serve", "--listen", endpoint, "--runs", str(tmp_path / "runs")],
+                                stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True, env=env)
+        while f"on {endpoint}" not in proc.stdout.readline():  # listening: a console may connect
+            assert proc.poll() is None, "lupin serve did not start"
+        c = LinkClient(endpoint, "mirte", clock=time.monotonic, token="t0k", timeout=10.0)
+        assert wait_for(lambda: c.view().connected and c.view().controllers, 30)
+        return proc, c
+
+    proc, c = start()
+    try:
+        assert not c.view().estop_engaged
+        assert c.send("estop", engaged=True) is None
+        assert wait_for(lambda: c.view().estop_engaged, 5)
+    finally:
+        c.close()
+        proc.kill()
+        proc.wait(timeout=30)
+    proc, c = start()  # "systemd" restarts it
+    try:
+        assert wait_for(lambda: c.view().estop_engaged, 5), "a crashed runtime came back released"
+        assert "did not exit cleanly" in c.view().estop_why
+        assert c.send("estop", engaged=False) is None
+        assert wait_for(lambda: not c.view().estop_engaged, 5)
+    finally:
+        c.close()
+        proc.send_signal(signal.SIGTERM)
+        proc.communicate(timeout=30)
+    proc, c = start()  # after a clean stop with the stop released: released
+    try:
+        time.sleep(1.0)
+        assert not c.view().estop_engaged
+    finally:
+        c.close()
+        proc.send_signal(signal.SIGTERM)
+        proc.communicate(timeout=30)

@@ -17,7 +17,7 @@ def status_chips(v: RobotView) -> list[Text]:
     chips = [Text(f" {v.robot or 'robot'} ", "bold reverse"),
              Text("link ok", "green") if v.connected else Text(" NO LINK ", ALARM)]
     if v.estop_engaged:
-        chips.append(Text(" E-STOP ENGAGED ", ALARM))
+        chips.append(Text(" E-STOP ENGAGED (kept across a restart) " if v.estop_why else " E-STOP ENGAGED ", ALARM))
     elif v.estop_latched:
         chips.append(Text(" e-stop released: r to resume ", "bold black on yellow"))
     else:
