@@ -18,10 +18,13 @@ one at the north end and one every ``DOOR_SPACING`` metres between: the robot cr
 to bay through the cross aisles, so a long greenhouse is also a test of planning through
 doorways and of SLAM in rooms joined by narrow gaps.
 
-With ``walkers`` K, K people walk the aisles: each along its own aisle between two rows (or
-the north aisle), from the row's first pot to past its last, at a seeded walking speed with a
-pause at each end and a staggered start (never the south aisle the robot starts in, so no one
-stands on the spawn).
+With ``walkers`` K, K people share the greenhouse, one per aisle between two rows (or the north
+aisle; never the south aisle the robot starts in, so no one stands on the spawn), in the mix
+``ROLES`` cycles through (issue 28: the figures must not rest on polite walkers): people and
+cart pushers walk their aisle from the row's first pot to past its last at a seeded speed with
+a pause at each end and a staggered start, a third of everyone with ``yields: false``; workers
+who stay put (standing, or crouching at a bench) are at the east end of their aisle, 0.6 m
+from the wall, where the robot must pass them in the cross aisle.
 
 Each pot gets a unique tag (1, 2, 3, ...: AprilTag 36h11 has ids 0..586, so at most 586
 pots), a seeded flower colour, 1..3 blooms and a climate reading; with 3 or more pots at least
@@ -78,6 +81,16 @@ WALKER_PAUSE = (2.0, 8.0)
 """Seeded standing time at each end of the aisle, s."""
 WALKER_START = 30.0
 """Latest seeded start, s."""
+CART_WIDTH = 0.7
+"""A generated cart pusher's width, m: a cart (over 0.6) that still fits a 0.8 m aisle between
+pot edges with 5 cm to spare each side."""
+WORKER_FROM_WALL = 0.6
+"""A worker who stays put stands this far from the east wall (or divider) of the bay, m."""
+ROLES = (("walking", False), ("standing", True), ("cart", True), ("crouching", True), ("walking", True),
+         ("cart", False))
+"""The mix ``--walkers K`` cycles through, (role, yields): of every six, two walk, two push a
+cart, one stands and one crouches at a bench, and two (a third) do not yield. The order puts
+one of each kind but the yielding walker in the first four."""
 
 _SOUTH, _NORTH = -math.pi / 2, math.pi / 2
 
@@ -151,11 +164,17 @@ def _walkers(count: int, rows: int, bays: int, bay_length: float, pots_per_row: 
                          f"(got {count})")
     out = []
     for k, (bay, y) in enumerate(rng.sample(slots, count)):
+        role, yields = ROLES[k % len(ROLES)]
         x0 = bay * bay_length + FIRST_POT_X
         x1 = x0 + (pots_per_row - 1) * POT_PITCH + 0.8
-        out.append(Walker(id=f"W{k + 1}", path=[[round(x0, 3), y], [round(x1, 3), y]],
-                          speed=round(rng.uniform(*WALKER_SPEED), 2), pause=round(rng.uniform(*WALKER_PAUSE), 1),
-                          start=round(rng.uniform(0.0, WALKER_START), 1)))
+        speed, pause, start = (round(rng.uniform(*WALKER_SPEED), 2), round(rng.uniform(*WALKER_PAUSE), 1),
+                               round(rng.uniform(0.0, WALKER_START), 1))  # drawn for every role: a stable stream
+        if role in ("standing", "crouching"):
+            out.append(Walker(id=f"W{k + 1}", path=[[round((bay + 1) * bay_length - WORKER_FROM_WALL, 3), y]],
+                              posture=role))
+            continue
+        out.append(Walker(id=f"W{k + 1}", path=[[round(x0, 3), y], [round(x1, 3), y]], speed=speed, pause=pause,
+                          start=start, yields=yields, width=CART_WIDTH if role == "cart" else 0.45))
     return out
 
 

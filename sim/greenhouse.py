@@ -17,7 +17,8 @@ world file describes, with the fixed geometry of :class:`sim.config.GreenhouseGe
   moves and resizes to place boxes at run time (the ``place_box`` fault);
 - per walker (spec/world.md ``walkers``), a mocap body ``walker_<id>`` standing at the start of
   its path: two legs, a torso and a head, as wide as the walker (0.45 m for a person, more for
-  one pushing a cart), 1.75 m tall, world collision geoms the lidar and the cameras see and the
+  one pushing a cart), 1.75 m tall, or for a crouching worker one 0.5 x 0.6 m block to 0.8 m
+  and a head to 1.0 m, world collision geoms the lidar and the cameras see and the
   chassis can touch (``sim.walkers`` moves them);
 - an orthographic ``overview`` camera looking straight down at the whole floor.
 
@@ -48,6 +49,7 @@ import mujoco
 
 from sim.apriltag import PAPER_RGB, write_tag_png
 from sim.config import GreenhouseGeometry
+from sim.walkers import CROUCH_HALF_DEPTH, CROUCH_HALF_WIDTH
 from sim.world import Obstacle, Pot, World
 
 ROBOT_XML: Path = Path(__file__).resolve().parent / "models" / "mirte_master" / "mirte_master.xml"
@@ -290,9 +292,16 @@ def _walker(w) -> str:
     """A person (or one pushing a cart) facing +x in its body frame, feet on the floor: legs
     0.85 m, torso to 1.5 m, head to 1.75 m; as wide as ``w.width`` across the shoulders, the
     legs apart by half of it, and as deep as a person (0.25 m) unless it pushes a cart (then a
-    cart-deep box in front at knee height)."""
-    half, leg = w.width / 2, 0.07
+    cart-deep box in front at knee height). A crouching worker is one block (sim.walkers'
+    ``CROUCH_HALF_*``) with the head on top: the lidar sees one solid blob, no legs."""
     x0, y0 = w.path[0]
+    parts = _crouching(w) if w.posture == "crouching" else _standing(w)
+    inner = "\n".join("      " + p for p in parts)
+    return f'    <body name="walker_{w.id}" mocap="true" pos="{x0:.4f} {y0:.4f} 0">\n{inner}\n    </body>'
+
+
+def _standing(w) -> list[str]:
+    half, leg = w.width / 2, 0.07
     parts = [
         _static(f"walker_{w.id}_leg_l", f'type="capsule" fromto="0 {half / 2:.3f} 0.08 0 {half / 2:.3f} 0.85" '
                 f'size="{leg}" material="walker_clothes"'),
@@ -304,8 +313,15 @@ def _walker(w) -> str:
     if w.width > 0.6:  # the cart: a box in front at knee height, as wide as the walker
         parts.append(_static(f"walker_{w.id}_cart", f'type="box" pos="0.45 0 0.45" size="0.3 {half:.3f} 0.25" '
                              'material="spare_box"'))
-    inner = "\n".join("      " + p for p in parts)
-    return f'    <body name="walker_{w.id}" mocap="true" pos="{x0:.4f} {y0:.4f} 0">\n{inner}\n    </body>'
+    return parts
+
+
+def _crouching(w) -> list[str]:
+    hx, hy = CROUCH_HALF_DEPTH, CROUCH_HALF_WIDTH
+    return [
+        _static(f"walker_{w.id}_body", f'type="box" pos="0 0 0.4" size="{hx:.3f} {hy:.3f} 0.4" material="walker_clothes"'),
+        _static(f"walker_{w.id}_head", 'type="sphere" pos="0.05 0 0.89" size="0.11" material="walker_skin"'),
+    ]
 
 
 def _overview_camera(fx: float, fy: float, g: GreenhouseGeometry) -> str:

@@ -1,11 +1,13 @@
 """People walking the simulated greenhouse (spec/world.md ``walkers``), moved kinematically.
 
 Each walker goes along its path at its speed, waits ``pause`` seconds at each end and walks it
-back (ping-pong), from ``start`` seconds on. It does not yield to the robot, except that it
-stops while its next step would bring its body within ``KEEP_CLEAR`` of the robot's (people do
-not walk into a machine) and goes on when that is clear. Its body for that rule (and for the
-judges' clearance) is what it stands on the floor with at the robot's height, its legs and
-its cart (``footprint_gap``); the robot's is the ``ROBOT_RADIUS`` circle. The motion is
+back (ping-pong), from ``start`` seconds on; a path of one point is a worker who stays there.
+It does not yield to the robot, except that it stops while its next step would bring its body
+within ``KEEP_CLEAR`` of the robot's (people do not walk into a machine) and goes on when that
+is clear; a walker with ``yields: false`` does not even do that (the robot alone keeps clear).
+Its body for that rule (and for the judges' clearance) is what it stands on the floor with at
+the robot's height, its legs and its cart, or a crouching worker's one compact block
+(``footprint_gap``); the robot's is the ``ROBOT_RADIUS`` circle. The motion is
 advanced with the engine's ``pre_chunk`` beat (every 10 ms of sim time) from the sim's own
 state only: no randomness, so the same world and seed give the same walk. ``hold`` stops and starts a walker (events).
 """
@@ -18,7 +20,7 @@ import mujoco
 import numpy as np
 
 from sim.engine import Engine
-from sim.world_checks import ROBOT_RADIUS
+from sim.world_checks import CROUCHING_MAX_WIDTH, ROBOT_RADIUS
 
 LEG_RADIUS = 0.07
 """A leg's radius, m (``sim.greenhouse``'s walker model: legs half the width apart)."""
@@ -26,6 +28,10 @@ CART_HALF_WIDTH = 0.3
 """A walker wider than twice this pushes a cart (``sim.greenhouse``)."""
 CART_AHEAD, CART_HALF_DEPTH = 0.45, 0.3
 """The cart's centre ahead of the walker and its half depth, m (``sim.greenhouse``)."""
+
+CROUCH_HALF_DEPTH, CROUCH_HALF_WIDTH = 0.25, CROUCHING_MAX_WIDTH / 2
+"""A crouching worker's block, half sizes along and across its heading, m: spec/world.md's
+"one compact body about 0.5 x 0.6 m" (``sim.greenhouse`` builds the same block)."""
 
 KEEP_CLEAR = 0.3
 """A walker stops while its next step would bring it this close to the robot's body, m."""
@@ -49,24 +55,35 @@ class _Walk:
     """Standing at an end of the path until then."""
     held: bool = False
     heading: float = field(default=0.0)
+    yields: bool = True
+    """Stops short of the robot (spec/world.md ``yields``)."""
+    crouching: bool = False
 
     def at(self, s: float) -> np.ndarray:
         return np.array([np.interp(s, self.lengths, self.path[:, 0]), np.interp(s, self.lengths, self.path[:, 1])])
 
 
-def footprint_gap(cx: float, cy: float, heading: float, half: float, x: float, y: float) -> float:
+def footprint_gap(cx: float, cy: float, heading: float, half: float, x: float, y: float,
+                  crouching: bool = False) -> float:
     """Distance from (x, y) to a walker's floor footprint: its legs (and the cart it pushes),
     the parts at the robot's height (the torso starts at 0.86 m, above the robot), for a walker
-    at (cx, cy) facing ``heading`` whose shoulders are ``2 * half`` wide. Negative inside."""
+    at (cx, cy) facing ``heading`` whose shoulders are ``2 * half`` wide; a crouching worker's
+    footprint is its one block. Negative inside."""
     c, s = math.cos(heading), math.sin(heading)
     dx, dy = x - cx, y - cy
     along, across = c * dx + s * dy, -s * dx + c * dy
+    if crouching:
+        return _box_gap(along, across, CROUCH_HALF_DEPTH, CROUCH_HALF_WIDTH)
     legs = min(math.hypot(along, across - side) for side in (half / 2, -half / 2)) - LEG_RADIUS
     if half <= CART_HALF_WIDTH:
         return legs
-    ox = max(abs(along - CART_AHEAD) - CART_HALF_DEPTH, 0.0)
-    oy = max(abs(across) - half, 0.0)
-    return min(legs, math.hypot(ox, oy) if ox or oy else -min(CART_HALF_DEPTH - abs(along - CART_AHEAD), half - abs(across)))
+    return min(legs, _box_gap(along - CART_AHEAD, across, CART_HALF_DEPTH, half))
+
+
+def _box_gap(u: float, v: float, hu: float, hv: float) -> float:
+    """Signed distance from (u, v) to a box of half sizes (hu, hv) centred at the origin."""
+    ox, oy = max(abs(u) - hu, 0.0), max(abs(v) - hv, 0.0)
+    return math.hypot(ox, oy) if ox or oy else -min(hu - abs(u), hv - abs(v))
 
 
 class SimWalkers:
@@ -78,8 +95,11 @@ class SimWalkers:
             path = np.asarray(w.path, dtype=float)
             lengths = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(path, axis=0).T))])
             body = engine.id(mujoco.mjtObj.mjOBJ_BODY, f"walker_{w.id}")
-            walk = _Walk(path, lengths, w.speed, w.pause, w.start, w.width / 2, int(engine.model.body_mocapid[body]))
-            walk.heading = math.atan2(path[1, 1] - path[0, 1], path[1, 0] - path[0, 0])
+            crouching = w.posture == "crouching"
+            walk = _Walk(path, lengths, w.speed or 0.0, w.pause, w.start, CROUCH_HALF_WIDTH if crouching else w.width / 2,
+                         int(engine.model.body_mocapid[body]), yields=w.yields, crouching=crouching)
+            if len(path) > 1:  # facing along its path; a worker who stays put faces +x
+                walk.heading = math.atan2(path[1, 1] - path[0, 1], path[1, 0] - path[0, 0])
             self._walks[w.id] = walk
             self._place(walk)
         self._last: float | None = None
@@ -91,7 +111,7 @@ class SimWalkers:
     def gap(self, walker: str, x: float, y: float) -> float:
         """Distance from (x, y) to what the walker stands on the floor with, m (negative inside)."""
         w = self._walks[walker]
-        return footprint_gap(*w.at(w.s), w.heading, w.half, x, y)
+        return footprint_gap(*w.at(w.s), w.heading, w.half, x, y, w.crouching)
 
     def hold(self, walker: str, held: bool) -> None:
         """Stop a walker where it is (True) or let it walk on (False)."""
@@ -105,15 +125,16 @@ class SimWalkers:
             return
         rx, ry = self.robot_xy()
         for w in self._walks.values():
-            if w.held or t < w.start or t < w.resume_at:
-                continue
+            if w.held or t < w.start or t < w.resume_at or w.lengths[-1] == 0.0:
+                continue  # held, not started, pausing at an end, or a worker who stays put
             step = w.speed * dt * (1 if w.forward else -1)
             s = min(max(w.s + step, 0.0), w.lengths[-1])
             (x, y), (x0, y0) = w.at(s), w.at(w.s)
             heading = math.atan2(y - y0, x - x0) if s != w.s else w.heading
-            gap = footprint_gap(x, y, heading, w.half, rx, ry) - ROBOT_RADIUS
-            if gap < KEEP_CLEAR and gap < footprint_gap(x0, y0, w.heading, w.half, rx, ry) - ROBOT_RADIUS:
-                continue  # the next step would come too close to the machine: wait (a step away is fine)
+            if w.yields:
+                gap = footprint_gap(x, y, heading, w.half, rx, ry, w.crouching) - ROBOT_RADIUS
+                if gap < KEEP_CLEAR and gap < footprint_gap(x0, y0, w.heading, w.half, rx, ry, w.crouching) - ROBOT_RADIUS:
+                    continue  # the next step would come too close to the machine: wait (a step away is fine)
             w.heading = heading
             w.s = s
             if s in (0.0, w.lengths[-1]) and (s == w.lengths[-1]) == w.forward:

@@ -101,20 +101,30 @@ class Obstacle(StrictEntry):
 
 
 class Walker(StrictEntry):
-    """A person walking the greenhouse (spec/world.md): along ``path`` and back, for ever."""
+    """A person in the greenhouse (spec/world.md): walking ``path`` and back for ever, or, with a
+    path of one point, a worker who stays there."""
 
     id: str = Field(min_length=1)
     """Unique among the walkers."""
-    path: list[Annotated[list[float], Field(min_length=2, max_length=2)]] = Field(min_length=2)
-    """Waypoints [x, y], world frame: walked in order, then back (ping-pong)."""
-    speed: float = Field(ge=0.2, le=1.5)
-    """Walking speed along the path, m/s (people walk at 0.8 to 1.4)."""
+    path: list[Annotated[list[float], Field(min_length=2, max_length=2)]] = Field(min_length=1)
+    """Waypoints [x, y], world frame: walked in order, then back (ping-pong); one point: the
+    person stays there (a worker at a bench)."""
+    speed: float | None = None
+    """Walking speed along the path, m/s: 0.2..1.5 (people walk at 0.8 to 1.4), required for a
+    path of two or more points; anything (or nothing) for a worker who stays put."""
     pause: float = Field(0.0, ge=0)
     """Seconds standing still at each end of the path."""
     start: float = Field(0.0, ge=0)
     """Sim seconds before the walker sets off."""
     width: float = Field(0.45, ge=0.2, le=1.2)
     """Body width across the shoulders, m: 0.45 for a person; up to 1.2 for one pushing a cart."""
+    yields: bool = True
+    """True: stops while its next step would come within 0.3 m of the robot (people do not walk
+    into a machine); False: walks on regardless (looking at the plants, not at the robot), so
+    keeping clear is the robot's job alone."""
+    posture: Literal["standing", "crouching"] = "standing"
+    """``crouching``: kneeling or squatting at a bench, one compact body about 0.5 x 0.6 m and
+    1.0 m tall with no legs apart in the lidar's plane (easily taken for a pot or a crate)."""
 
 
 class Climate(StrictEntry):
@@ -224,7 +234,7 @@ def dump_world(world: World) -> str:
     if world.obstacles:
         data["obstacles"] = [o.model_dump() for o in world.obstacles]
     if world.walkers:
-        data["walkers"] = [w.model_dump() for w in world.walkers]
+        data["walkers"] = [w.model_dump(exclude_none=True) for w in world.walkers]
     if world.climate:
         data["climate"] = {k: c.model_dump(exclude_none=True) for k, c in world.climate.items()}
     body = yaml.safe_dump(data, sort_keys=False, default_flow_style=None, width=120)

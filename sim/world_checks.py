@@ -84,21 +84,38 @@ def world_problems(
     return out
 
 
+WALKING_SPEED = (0.2, 1.5)
+"""Speeds a walking path accepts, m/s (spec/world.md: people walk at 0.8 to 1.4; 0.2 is a
+shuffle, 1.5 a hurry)."""
+CROUCHING_MAX_WIDTH = 0.6
+"""Widest a crouching walker may be, m: a cart is pushed standing (``width`` above this is one)."""
+
+
 def _walker_problems(world: World, pot_radius: float) -> list[str]:
     """A walker's path must keep its body (a circle of half its width) on the floor and clear of
-    every pot and box; ids unique."""
+    every pot and box (a worker who stays put: the one point); ids unique; a walking path has a
+    walking speed; a crouching worker pushes no cart."""
     out, seen = [], {}
     for k, w in enumerate(world.walkers):
         where = f"walkers[{k}] (id {w.id})"
         if w.id in seen:
             out.append(f"{where}: field 'id': duplicate of walkers[{seen[w.id]}]")
         seen.setdefault(w.id, k)
-        half = w.width / 2
-        for a, b in zip(w.path, w.path[1:]):
+        low, high = WALKING_SPEED
+        if len(w.path) > 1 and (w.speed is None or not low <= w.speed <= high):
+            got = "missing" if w.speed is None else f"got {w.speed:g}"
+            out.append(f"{where}: field 'speed': a path of {len(w.path)} points is walked at {low:g}..{high:g} m/s "
+                       f"({got})")
+        if w.posture == "crouching" and w.width > CROUCHING_MAX_WIDTH:
+            out.append(f"{where}: field 'width': a crouching worker is at most {CROUCHING_MAX_WIDTH:g} m wide "
+                       f"(a cart is pushed standing; got {w.width:g})")
+        half = w.width / 2 if w.posture == "standing" else CROUCHING_MAX_WIDTH / 2
+        for a, b in zip(w.path, w.path[1:] or w.path):
             crossed = _path_crossing(world, a, b, half, pot_radius)
             if crossed:
-                out.append(f"{where}: field 'path': the segment ({a[0]:g}, {a[1]:g}) -> ({b[0]:g}, {b[1]:g}) "
-                           f"crosses {crossed}")
+                what = "the point" if len(w.path) == 1 else "the segment"
+                span = f"({a[0]:g}, {a[1]:g})" + ("" if len(w.path) == 1 else f" -> ({b[0]:g}, {b[1]:g})")
+                out.append(f"{where}: field 'path': {what} {span} {'touches' if len(w.path) == 1 else 'crosses'} {crossed}")
                 break
     return out
 

@@ -30,8 +30,26 @@ def _with(**walker):
 def test_a_good_walker_reads_with_its_defaults_and_round_trips():
     world = parse_world(WORLD, "w.yaml")
     w = world.walkers[0]
-    assert (w.pause, w.start, w.width) == (0.0, 0.0, 0.45)
+    assert (w.pause, w.start, w.width, w.yields, w.posture) == (0.0, 0.0, 0.45, True, "standing")
     assert parse_world(__import__("yaml").safe_load(dump_world(world)), "again").walkers == world.walkers
+
+
+def test_a_worker_who_stays_put_needs_no_speed_and_any_speed_will_do():
+    for extra in ({}, {"speed": 0.0}, {"speed": 7.0}):
+        world = parse_world(_with(path=[[4.0, 2.0]], posture="crouching", yields=False, **extra), "w.yaml")
+        assert world.walkers[0].path == [[4.0, 2.0]]
+    again = parse_world(__import__("yaml").safe_load(dump_world(world)), "again")
+    assert again.walkers == world.walkers
+
+
+def test_a_worker_who_stays_put_must_stand_clear_of_pots_and_walls():
+    with pytest.raises(InputError, match=r"walkers\[0\] \(id W1\): field 'path': the point \(3, 1.2\) touches pots\[0\]"):
+        parse_world(_with(path=[[3.0, 1.2]]), "w.yaml")
+    with pytest.raises(InputError, match=r"the point \(3, 1.35\) touches pots\[0\]"):
+        parse_world(_with(path=[[3.0, 1.35]], posture="crouching"), "w.yaml")  # the block is 0.6 m across
+    parse_world(_with(path=[[3.0, 1.35]]), "w.yaml")  # a standing person fits there
+    with pytest.raises(InputError, match="touches a wall"):
+        parse_world(_with(path=[[7.9, 2.0]]), "w.yaml")
 
 
 @pytest.mark.parametrize("path, crossed", [
@@ -55,7 +73,12 @@ def test_a_wide_walker_needs_a_wider_gap():
 
 @pytest.mark.parametrize("walker, message", [
     ({"speed": 3.0}, "field 'speed'"),
-    ({"path": [[2.0, 2.0]]}, "field 'path'"),
+    ({"path": []}, "field 'path'"),
+    ({"speed": None}, "field 'speed': a path of 2 points is walked at 0.2..1.5 m/s (missing)"),
+    ({"speed": 0.1}, "field 'speed'"),
+    ({"yields": "sometimes"}, "field 'yields'"),
+    ({"posture": "lying"}, "field 'posture': must be one of standing, crouching"),
+    ({"posture": "crouching", "width": 0.9}, "field 'width': a crouching worker is at most 0.6 m wide"),
     ({"path": [[2.0, 2.0, 1.0], [3.0, 2.0]]}, "field 'path.0'"),
     ({"pause": -1}, "field 'pause'"),
     ({"width": 2.0}, "field 'width'"),
@@ -74,15 +97,23 @@ def test_walker_ids_are_unique():
         parse_world(data, "w.yaml")
 
 
-def test_generated_walkers_walk_aisles_clear_of_the_spawn_and_leave_the_pots_alone():
+def test_generated_walkers_are_a_mix_in_the_aisles_clear_of_the_spawn_and_leave_the_pots_alone():
     plain, peopled = generate_world(4, 6, seed=5), generate_world(4, 6, seed=5, walkers=4)
     assert plain.pots == peopled.pots and not plain.walkers
     assert [w.id for w in peopled.walkers] == [f"W{k}" for k in range(1, 5)]
     assert len({w.path[0][1] for w in peopled.walkers}) == 4  # one per aisle
     for w in peopled.walkers:
-        (x0, y0), (x1, y1) = w.path
-        assert y0 == y1 and x1 > x0 + 4.0  # along a whole aisle
-        assert y0 > 1.0  # never the south aisle the robot starts in
+        assert w.path[0][1] > 1.0  # never the south aisle the robot starts in
+        if len(w.path) == 2:
+            (x0, y0), (x1, y1) = w.path
+            assert y0 == y1 and x1 > x0 + 4.0  # along a whole aisle
+        else:
+            assert w.path[0][0] == pytest.approx(plain.floor.x - 0.6)  # a worker by the east wall
+    kinds = [(len(w.path), w.posture, w.width > 0.6, w.yields) for w in peopled.walkers]
+    assert kinds == [(2, "standing", False, False), (1, "standing", False, True), (2, "standing", True, True),
+                     (1, "crouching", False, True)]
+    many = generate_world(5, 6, seed=5, bays=2, walkers=10).walkers
+    assert len(many) == 10 and sum(not w.yields for w in many) == 3  # a third or so do not yield
     assert generate_world(4, 6, seed=5, walkers=4).walkers == peopled.walkers
     with pytest.raises(InputError, match="walkers must be a whole number from 0 to 50"):
         generate_world(4, 6, seed=5, walkers=51)

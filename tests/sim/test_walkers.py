@@ -85,3 +85,33 @@ def test_the_footprint_is_the_legs_and_the_cart_ahead():
     assert footprint_gap(0, 0, math.pi, 0.225, -0.5, -0.1125) == pytest.approx(0.43)  # turned round
     assert footprint_gap(0, 0, 0.0, 0.45, 1.0, 0.0) == pytest.approx(0.25)  # the cart's front
     assert footprint_gap(0, 0, 0.0, 0.45, 0.5, 0.0) < 0  # inside the cart
+
+
+def test_a_walker_that_does_not_yield_walks_on_into_the_robot():
+    sim = _robot(spawn=(4.0, 2.0), yields=False)
+    assert _at(sim, 1.8)[0] == pytest.approx(3.8, abs=0.02)   # a yielding one waits at 3.41 (test above)
+    assert sim.walkers.gap("W1", 4.0, 2.0) - ROBOT_RADIUS < 0    # its legs are where the robot was
+
+
+def test_a_worker_who_stays_put_never_moves():
+    sim = _robot(path=[[3.0, 2.0]], spawn=(3.6, 2.0))
+    assert _at(sim, 3.0) == pytest.approx((3.0, 2.0))
+    sim.place(1.0, 1.0, 0.0)
+    assert _at(sim, 6.0) == pytest.approx((3.0, 2.0))
+
+
+def test_a_crouching_worker_is_one_block_to_the_lidar_and_the_judges():
+    """Facing +x at (2, 2): a 0.5 x 0.6 m block. The lidar 1 m west of it sees one solid face
+    (no gap between legs), 0.75 m from the robot's centre less the lidar's offset."""
+    assert footprint_gap(0, 0, 0.0, 0.3, 0.5, 0.0, crouching=True) == pytest.approx(0.25)
+    assert footprint_gap(0, 0, 0.0, 0.3, 0.0, 0.5, crouching=True) == pytest.approx(0.2)
+    assert footprint_gap(0, 0, 0.0, 0.3, 0.0, 0.0, crouching=True) == pytest.approx(-0.25)
+    sim = _robot(path=[[2.0, 2.0]], posture="crouching", spawn=(1.0, 2.0))
+    sim.engine.advance_to(0.3)
+    assert sim.walkers.gap("W1", 1.0, 2.0) == pytest.approx(0.75)
+    scan = sim.lidar.latest_scan()
+    wrapped = np.arctan2(np.sin(scan.angles), np.cos(scan.angles))
+    face = scan.ranges[np.abs(wrapped) < 0.25]  # +-0.25 rad at ~0.75 m: +-0.19 m of its 0.6 m face
+    assert np.all(face < 0.85)                  # a solid face: no ray passes between legs
+    geoms = [mujoco.mj_id2name(sim.engine.model, mujoco.mjtObj.mjOBJ_GEOM, g) or "" for g in range(sim.engine.model.ngeom)]
+    assert not any(n.startswith("walker_W1_leg") for n in geoms) and "walker_W1_body" in geoms
