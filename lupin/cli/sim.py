@@ -97,6 +97,9 @@ def drive(
     out.mkdir(parents=True, exist_ok=True)
     save_config(config, out)
     write_atomic(out / "drive.json", json.dumps(results_json(run), indent=2).encode())
+    if run.held:
+        print(f"route {route!r} stopped: {run.held}", file=sys.stderr)
+        raise typer.Exit(1)
     if not run.driver.done:
         print(f"route {route!r} did not finish within the time limit", file=sys.stderr)
         raise typer.Exit(1)

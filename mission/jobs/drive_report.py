@@ -41,6 +41,7 @@ def results_json(run: DriveRun) -> dict:
             for r in run.results
         ],
         "completed": run.driver.done,
+        "held": run.held,
         "bumps": [{"geom": name, "t": t} for name, t in run.bumps.items()],
         "sim_time_s": run.sim_time,
         "distance_m": run.robot.base.odometry.distance,

@@ -11,6 +11,8 @@ import math
 from dataclasses import dataclass
 from typing import Callable
 
+import numpy as np
+
 from hw.interfaces import ZERO_TWIST, Twist
 from hw.odometry import Pose2D, wrap_angle
 
@@ -43,6 +45,34 @@ ROUTES: dict[str, list[Move]] = {
         Move("aisle 4.5 m", "x", 4.5, 0.30),
     ],
 }
+
+
+FLOOR_STEP = 0.05
+"""Metres between the poses a move is checked at against the walls before the robot moves."""
+
+
+def leaves_the_floor(moves: list[Move], start: Pose2D, floor: tuple[float, float], radius: float) -> str | None:
+    """The first move whose nominal motion from ``start`` (world frame) would take the robot's
+    circle through a wall, said in a sentence; None when the whole route stays on the floor."""
+    pose = start
+    for move in moves:
+        if move.axis == "yaw":
+            pose = Pose2D(pose.x, pose.y, wrap_angle(pose.yaw + move.amount))
+            continue
+        fx, fy = (math.cos(pose.yaw), math.sin(pose.yaw)) if move.axis == "x" else (-math.sin(pose.yaw), math.cos(pose.yaw))
+        for s in np.append(np.arange(0.0, abs(move.amount), FLOOR_STEP), abs(move.amount)) * math.copysign(1.0, move.amount):
+            x, y = pose.x + fx * s, pose.y + fy * s
+            if not (radius <= x <= floor[0] - radius and radius <= y <= floor[1] - radius):
+                return (f"move {move.name!r} would take the robot off the floor: at ({x:.2f}, {y:.2f}) its "
+                        f"{radius:.2f} m circle crosses a wall of the {floor[0]:g} x {floor[1]:g} m floor")
+        pose = Pose2D(pose.x + fx * move.amount, pose.y + fy * move.amount, pose.yaw)
+    return None
+
+
+def side_of(move: Move) -> str:
+    """Where the robot is heading on a translation move, in its own words."""
+    return {("x", 1): "ahead", ("x", -1): "behind", ("y", 1): "on the left", ("y", -1): "on the right"}[
+        (move.axis, 1 if move.amount > 0 else -1)]
 
 
 def relative(start: Pose2D, end: Pose2D) -> tuple[float, float, float]:

@@ -45,3 +45,38 @@ def test_a_route_that_does_not_fit_reports_the_bump(tmp_path, capsys, monkeypatc
     (move,) = report["moves"]
     assert move["odom"][0] > move["truth"][0] + 0.2  # wheels spun on against the crate
     assert yaml.safe_load((out / "config.yaml").read_text())["sim"]["seed"] == 0
+
+
+def _crowded(tmp_path):
+    world = load_default_world()
+    crowded = world.model_copy(update={"obstacles": [*world.obstacles, world.obstacles[0].model_copy(
+        update={"x": 1.6, "y": 0.5, "sx": 0.3, "sy": 0.3})]})
+    path = tmp_path / "crowded.yaml"
+    path.write_text(dump_world(crowded))
+    return path
+
+
+def test_a_move_the_collision_monitor_holds_ends_the_route_at_once(tmp_path, capsys):
+    """The crate 0.6 m ahead stops the straight move; the command says which move, the side and
+    how near, and exits 1 within seconds of robot time, not after the 600 s limit."""
+    out = tmp_path / "run"
+    code = main(["sim", "drive", "--world", str(_crowded(tmp_path)), "--route", "straight", "--out", str(out)])
+    err = capsys.readouterr().err
+    assert code == 1
+    assert "move 'forward 1 m' held by the collision monitor" in err and "ahead" in err
+    report = json.loads((out / "drive.json").read_text())
+    assert not report["completed"] and report["bumps"] == []
+    assert report["sim_time_s"] < 10.0
+    assert "held by the collision monitor" in report["held"]
+
+
+def test_a_route_off_the_floor_is_refused_before_the_robot_moves(tmp_path, capsys):
+    world = load_default_world()
+    near_wall = world.model_copy(update={"spawn": world.spawn.model_copy(update={"x": 1.0, "y": 2.5})})
+    path = tmp_path / "near.yaml"
+    path.write_text(dump_world(near_wall))
+    code = main(["sim", "drive", "--world", str(path), "--route", "tour", "--out", str(tmp_path / "run")])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert "move 'strafe left 2 m' would take the robot off the floor" in err and "Traceback" not in err
+    assert not (tmp_path / "run" / "drive.json").exists()
