@@ -56,6 +56,18 @@ class LogOddsGrid:
         """The last scan that touched each cell (a scan counts a cell once)."""
         self._scans = 0
 
+    @classmethod
+    def restored(cls, occupancy: OccupancyMap) -> "LogOddsGrid":
+        """A grid that goes on from a map handed out earlier (a lost worker's, ``checkpoint``):
+        each known cell's log-odds is the logit of its percentage (rounding costs under 0.02),
+        clamped as updates are; unknown cells stay unknown until a beam crosses them."""
+        grid = cls(occupancy.geometry)
+        known = occupancy.occupancy >= 0
+        p = np.clip(occupancy.occupancy[known].astype(np.float64) / 100.0, 1e-6, 1.0 - 1e-6)
+        grid.logodds[known] = np.clip(np.log(p / (1.0 - p)), L_MIN, L_MAX)
+        grid._occupancy[...] = occupancy.occupancy
+        return grid
+
     def clear(self, window: tuple[int, int, int, int] | None = None) -> None:
         """Forget what was seen, everywhere or in the cells ``window`` = (ix0, iy0, ix1, iy1)."""
         ix0, iy0, ix1, iy1 = self._window(window)

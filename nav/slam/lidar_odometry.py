@@ -50,6 +50,12 @@ class LidarOdometry:
         """The latest registered pose of ``base_link`` in this odometry's frame."""
         self._odom: Pose2D | None = None
 
+    def seed(self, points: np.ndarray) -> None:
+        """Fill the local map with (N, 2) points already placed in this odometry's frame (a
+        restart's kept scans), thinned as a registered scan's are."""
+        xyz = np.column_stack([points, np.zeros(len(points))])
+        self.local_map.add_points(voxel_down_sample(xyz, self._voxel * 0.5))
+
     def register(self, points: np.ndarray, odom: Pose2D) -> Pose2D:
         """Register one scan's ``base_link`` points (N, 3); ``odom`` is the wheel odometry pose
         when it was taken. Returns the new pose."""

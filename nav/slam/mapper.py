@@ -18,14 +18,13 @@ pose of the dock after a map reset, so goals given in ``map`` stay valid across 
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from hw.odometry import Pose2D, wrap_angles
 from nav.frames import compose, distance, inverse, transform_points, yaw_error
 from nav.grid_geometry import GridGeometry
 from nav.occupancy import OccupancyMap
+from nav.slam.checkpoint import Checkpoint, Delta, KeptScan
 from nav.slam.config import SlamConfig
 from nav.slam.grid import LogOddsGrid
 from nav.slam.lidar_odometry import LidarOdometry
@@ -48,19 +47,6 @@ LOOP_SETTLED = 0.01
 #: to keep, and every cell a 12 m scan sees is seen by dozens of scans 0.2 m apart, so keeping
 #: more only makes a re-render longer (~0.5 MB per 100 m driven, float16 points).
 KEEP_SPACING = 0.2
-
-
-@dataclass(frozen=True)
-class _Scan:
-    index: int
-    """Which scan of the run it was (0, 1, ...)."""
-    keyframe: int
-    relative: Pose2D
-    """The scan's pose as seen from its keyframe (lidar odometry frame)."""
-    points: np.ndarray
-    """float16 (N, 2) returns in ``base_link`` (4 mm at 8 m: a tenth of a map cell)."""
-    reach: float
-    """The farthest return from the robot, m: the scan touches no cell farther away."""
 
 
 def _place(keyframes: np.ndarray, relative: np.ndarray) -> np.ndarray:
@@ -93,8 +79,48 @@ class Mapper:
         self._kf_lo: list[Pose2D] = []
         self._kf_points: list[np.ndarray] = []
         self._travel: list[float] = []
-        self._scans: list[_Scan] = []
+        self._scans: list[KeptScan] = []
         self._next_loop = 0.0
+        self._sent = (0, 0, 0, 0)
+        """Graph nodes, edges, keyframes and kept scans already handed out in a ``delta``."""
+        self._solved = False
+        """Has the graph been solved since the last ``delta`` (its poses all moved)?"""
+
+    @classmethod
+    def restored(cls, cfg: SlamConfig, lidar_mount: Pose2D, checkpoint: Checkpoint, start: Pose2D) -> "Mapper":
+        """A mapper that goes on from ``checkpoint`` (a lost worker's graph, kept scans and map)
+        with the robot at ``start`` in ``map``: the graph's keyframes become this lidar
+        odometry's keyframes as they stand (its frame is ``map``, the correction starts at
+        identity), the grid is the checkpoint's map, and the local voxel map is seeded with the
+        kept scans within its range, so the first scan registers against what was mapped here
+        and takes out the odometry's drift through the gap."""
+        m = cls(cfg, lidar_mount, start)
+        m.graph.poses = checkpoint.poses.copy()
+        m.graph.edges = list(checkpoint.edges)
+        m._kf_lo = [m.graph.node(k) for k in range(len(m.graph))]
+        m._kf_points = list(checkpoint.keyframe_points)
+        m._travel = list(checkpoint.travel)
+        m._scans = list(checkpoint.scans)
+        m.scans, m.loop_closures, m.solves, m._next_loop = checkpoint.counters
+        m.kept_bytes = sum(p.nbytes for p in m._kf_points) + sum(s.points.nbytes for s in m._scans)
+        m.grid = LogOddsGrid.restored(checkpoint.occupancy)
+        m._sent = (len(m.graph), len(m.graph.edges), len(m._kf_points), len(m._scans))
+        near = [s for s in m._scans if distance(m._scan_pose(s), start) <= cfg.local_map_range]
+        if near:
+            m.odometry.seed(np.vstack([transform_points(m._scan_pose(s), s.points.astype(np.float64)) for s in near]))
+        return m
+
+    def delta(self) -> Delta:
+        """What this mapper added since the last call: the checkpoint's share of a reply."""
+        nodes, edges, kfs, scans = self._sent
+        first = 0 if self._solved else nodes
+        out = Delta(first, self.graph.poses[first:].copy(), tuple(self.graph.edges[edges:]),
+                    tuple(self._kf_points[kfs:]), tuple(self._travel[kfs:]), tuple(self._scans[scans:]),
+                    (self.scans, self.loop_closures, self.solves, self._next_loop),
+                    self.occupancy() if self._solved else None)
+        self._sent = (len(self.graph), len(self.graph.edges), len(self._kf_points), len(self._scans))
+        self._solved = False
+        return out
 
     def process(self, angles: np.ndarray, ranges: np.ndarray, odom: Pose2D) -> Pose2D:
         """Integrate one revolution; returns the robot's map pose."""
@@ -111,7 +137,7 @@ class Mapper:
                 or yaw_error(last.relative, relative) >= KEEP_SPACING:
             kept = points[:, :2].astype(np.float16)
             reach = float(np.hypot(points[:, 0], points[:, 1]).max(initial=0.0)) + abs(self.mount.x) + 0.1
-            self._scans.append(_Scan(self.scans, k, relative, kept, reach))
+            self._scans.append(KeptScan(self.scans, k, relative, kept, reach))
             self.kept_bytes += self._scans[-1].points.nbytes
         self._render(self.pose, points)
         self.map_to_odom = compose(self.pose, inverse(odom))
@@ -172,13 +198,14 @@ class Mapper:
         before = self.graph.poses.copy()
         self.graph.optimize()
         self.solves += 1
+        self._solved = True
         self._rerender(before)
 
     def _correction(self) -> Pose2D:
         """lidar odometry frame -> map, from the latest keyframe's optimised pose."""
         return compose(self.graph.node(len(self.graph) - 1), inverse(self._kf_lo[-1]))
 
-    def _scan_pose(self, s: _Scan) -> Pose2D:
+    def _scan_pose(self, s: KeptScan) -> Pose2D:
         return compose(self.graph.node(s.keyframe), s.relative)
 
     def _render(self, pose: Pose2D, points: np.ndarray) -> None:

@@ -19,6 +19,16 @@ the runtime clock; a worker that dies on its own (or wedges) is replaced the sam
 the gap ``map -> odom`` holds its last value, so navigation runs on wheel odometry, and the new
 worker starts its graph at the robot's current map pose: the map frame (the dock) survives the
 reset, and so do goals and mission poses given in it. The caller clears the costmaps.
+
+**A lost worker costs seconds, not the map** (issue 29): every reply carries what its scan added
+to the mapper's state, which is folded into a ``Checkpoint`` held here (``nav.slam.checkpoint``
+says why here and not on disk). A worker that wedges or crashes is replaced by one that is
+handed the checkpoint before its first scan and goes on from it at the robot's current map pose:
+same graph, same kept scans, the map as last handed back. Only the operator's map reset drops
+the checkpoint, so the fresh worker starts an empty map as the seed's reset did. The checkpoint
+travels to the new worker from a helper thread, since the new interpreter reads it only once it
+has imported (seconds on a cold Pi) and the runtime's thread must not wait on it; lock-step
+waits for it (its clock stands still meanwhile, so runs stay deterministic).
 """
 from __future__ import annotations
 
@@ -26,6 +36,7 @@ import json
 import logging
 import subprocess
 import sys
+import threading
 from multiprocessing.connection import Pipe
 from typing import Callable, Optional
 
@@ -34,6 +45,7 @@ from hw.odometry import Pose2D
 from nav.frames import compose
 from nav.occupancy import OccupancyMap
 from nav.slam import worker
+from nav.slam.checkpoint import Checkpoint
 from nav.slam.config import SlamConfig
 from nav.slam.liveness import Liveness
 
@@ -61,6 +73,9 @@ class SlamSupervisor:
         self.listeners: list[Callable[[worker.Reply], None]] = []
         """Called with every reply as it is taken (a benchmark's meter, say)."""
         self.spawned = self.deaths = 0
+        self.spared = 0
+        """Replies that came later than the limit from a worker that kept using CPU: starved, not
+        wedged, so waited for (``nav.slam.liveness``)."""
         self._proc = None
         self._conn = None
         self._pending: float | None = None
@@ -72,6 +87,12 @@ class SlamSupervisor:
         self._answered = False
         """Has the current worker replied yet (before that, ``startup_timeout`` applies)?"""
         self._next_map = 0.0
+        self.checkpoint = Checkpoint()
+        """What a replacement worker goes on from (emptied by the map reset)."""
+        self.restored = 0
+        """Workers started from the checkpoint rather than an empty map."""
+        self._handing: threading.Thread | None = None
+        """Sending the checkpoint to a new worker; no scan is sent until it is done."""
 
     # -- Localisation --------------------------------------------------------------------------
 
@@ -94,6 +115,12 @@ class SlamSupervisor:
                 self._spawn()
             else:
                 return
+        if self._handing is not None:
+            if self.lockstep:
+                self._handing.join()
+            if self._handing.is_alive():
+                return
+            self._handing = None
         if self._pending is not None and not self._collect(now):
             return
         scan = self.scan()
@@ -116,11 +143,18 @@ class SlamSupervisor:
         """Have the next exchange bring the map back, whatever the update interval (a map save)."""
         self._next_map = float("-inf")
 
+    def stall(self, kind: str, seconds: float = 0.0) -> None:
+        """Test hook: have the worker wedge for real (``spin``, ``block``) or work ``seconds``
+        of CPU silently (``work``) once it has answered the scan it holds (``worker.Stall``)."""
+        self._conn.send(worker.Stall(kind, seconds))
+
     def reset(self, now: float) -> int:
-        """The map reset: kill the worker; a fresh one starts ``respawn_delay`` later. Returns
-        how many workers were killed (0 when none was running, e.g. inside a reset's gap)."""
+        """The map reset: kill the worker; a fresh one starts ``respawn_delay`` later, from an
+        empty map. Returns how many workers were killed (0 when none was running, e.g. inside
+        a reset's gap)."""
         killed = self._kill()
         self.occupancy = None  # erased: nothing may save or show the old map from now on
+        self.checkpoint = Checkpoint()
         self._respawn_at = now + self.cfg.respawn_delay
         log.info("map reset: killed %d SLAM worker(s); respawning in %.1f s", killed, self.cfg.respawn_delay)
         return killed
@@ -143,10 +177,22 @@ class SlamSupervisor:
                                       pass_fds=(child.fileno(),), stdin=subprocess.DEVNULL)
         child.close()
         self._conn = parent
+        if not self.checkpoint.empty:
+            self._handing = threading.Thread(target=self._hand_over, args=(parent, self.checkpoint),
+                                             name="slam-checkpoint", daemon=True)
+            self._handing.start()
+            self.restored += 1
         self._pending, self._respawn_at = None, None
         self._answered = False
         self._next_map = 0.0
         self.spawned += 1
+
+    @staticmethod
+    def _hand_over(conn, checkpoint: Checkpoint) -> None:
+        try:
+            conn.send(worker.Restore(checkpoint))
+        except (BrokenPipeError, OSError):
+            pass  # the worker died before reading it: the next exchange finds that out
 
     def _collect(self, now: float) -> bool:
         """Take the reply to the outstanding scan; False if there is none (yet).
@@ -172,20 +218,30 @@ class SlamSupervisor:
         except (EOFError, OSError):
             self._lost(now, "it exited")
             return False
+        if (waited if self.lockstep else now - self._pending) >= limit:
+            self.spared += 1
         self._pending = None
         self.last_reply = reply
         for listener in self.listeners:
             listener(reply)
         self._answered = True
         self._map_to_odom = reply.map_to_odom
+        if reply.delta is not None:
+            self.checkpoint.apply(reply.delta)
         if reply.occupancy is not None:
+            self.checkpoint.map(reply.occupancy)
             self.occupancy = reply.occupancy
             self.on_map(reply.occupancy)
         return True
 
     def _lost(self, now: float, why: str) -> None:
-        log.warning("SLAM worker lost (%s); respawning in %.1f s", why, self.cfg.respawn_delay)
+        log.warning("SLAM worker lost (%s); respawning in %.1f s from the checkpoint", why, self.cfg.respawn_delay)
         self.deaths += 1
+        if not self._answered and not self.checkpoint.empty:
+            # lost before its first reply: the checkpoint itself may be what it cannot get past,
+            # so the next worker starts an empty map rather than dying the same way for ever
+            log.warning("SLAM worker lost before starting from the checkpoint; the next starts an empty map")
+            self.checkpoint = Checkpoint()
         self._kill()
         self._respawn_at = now + self.cfg.respawn_delay
 
@@ -195,8 +251,11 @@ class SlamSupervisor:
         proc, conn = self._proc, self._conn
         self._proc = self._conn = None
         self._pending = None
-        conn.close()
         alive = proc.poll() is None
         proc.kill()
         proc.wait(timeout=5.0)
+        if self._handing is not None:  # its send fails on the dead peer: then the pipe may close
+            self._handing.join()
+            self._handing = None
+        conn.close()
         return int(alive)

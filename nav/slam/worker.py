@@ -7,7 +7,13 @@ can never stall the control loop, and so it uses the robot's second core. The ru
 * request ``Scan``: a revolution, the wheel odometry pose it was taken at, the map pose to start
   from (used by a fresh worker's first scan only), and whether the map is wanted back;
 * reply ``Reply``: the robot's map pose and ``map -> odom`` after that scan, the graph's size,
-  the time the worker spent, and the occupancy map when asked for.
+  the time the worker spent, the occupancy map when asked for, and what the scan added to the
+  mapper's state (``checkpoint.Delta``), which the supervisor keeps.
+
+Two more requests: ``Restore`` (first, to a worker that replaces a lost one: the checkpoint to go
+on from) and ``Stall``, the test hook that makes a worker wedge for real (a busy loop, a call that
+never returns) or work a while without answering, so the supervisor's judgement is tried on a
+real process mid-patrol (``tests/nav/test_slam_respawn.py``, ``lupin bench slam.wedge``).
 
 The pipe carries plain dataclasses of numpy arrays (a scan is ~4 KB, the map ~0.2 MB once a
 second). A closed pipe ends the worker; nothing else does.
@@ -30,6 +36,7 @@ import numpy as np
 
 from hw.odometry import Pose2D
 from nav.occupancy import OccupancyMap
+from nav.slam.checkpoint import Checkpoint, Delta
 from nav.slam.config import SlamConfig
 from nav.slam.mapper import Mapper
 
@@ -42,6 +49,22 @@ class Scan:
     odom: Pose2D
     start: Pose2D
     want_map: bool
+
+
+@dataclass(frozen=True)
+class Restore:
+    """Go on from this checkpoint: the first scan then starts the mapper from it."""
+
+    checkpoint: Checkpoint
+
+
+@dataclass(frozen=True)
+class Stall:
+    """Test hook: ``spin`` (a busy loop forever), ``block`` (a call that never returns) or
+    ``work`` (``seconds`` of CPU spent before the next scan is taken, then on as before)."""
+
+    kind: str
+    seconds: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -60,30 +83,59 @@ class Reply:
     """The worker process's CPU seconds so far (the robot runtime's share of the second core)."""
     kept_bytes: int = 0
     """Memory held for re-rendering: the kept scans and the keyframes' points."""
+    delta: Optional[Delta] = None
+    """What this scan added to the mapper's state: the supervisor's checkpoint is their sum."""
+    restore_s: float = 0.0
+    """Wall seconds this scan spent rebuilding the mapper from a checkpoint (a respawn's first)."""
 
 
 def serve(conn: Connection, config: dict, mount: tuple[float, float, float]) -> None:
     """The process body: map every scan that arrives until the pipe closes."""
     cfg = SlamConfig(**config)
     mapper: Mapper | None = None
+    checkpoint: Checkpoint | None = None
     while True:
         try:
-            msg: Scan = conn.recv()
+            msg = conn.recv()
         except (EOFError, OSError):
             return
+        if isinstance(msg, Restore):
+            checkpoint = msg.checkpoint
+            continue
+        if isinstance(msg, Stall):
+            stall(msg)
+            continue
         t0 = time.perf_counter()
+        restore = 0.0
         if mapper is None:
-            mapper = Mapper(cfg, Pose2D(*mount), msg.start)
+            if checkpoint is None:
+                mapper = Mapper(cfg, Pose2D(*mount), msg.start)
+            else:
+                mapper, checkpoint = Mapper.restored(cfg, Pose2D(*mount), checkpoint, msg.start), None
+                restore = time.perf_counter() - t0
         solves = mapper.solves
         pose = mapper.process(msg.angles, msg.ranges, msg.odom)
         occ = mapper.occupancy() if msg.want_map else None
         busy = time.perf_counter() - t0
         reply = Reply(msg.stamp, pose, mapper.map_to_odom, mapper.keyframes, mapper.loop_closures,
-                      busy, occ, busy if mapper.solves > solves else 0.0, time.process_time(), mapper.kept_bytes)
+                      busy, occ, busy if mapper.solves > solves else 0.0, time.process_time(), mapper.kept_bytes,
+                      mapper.delta(), restore)
         try:
             conn.send(reply)
         except (BrokenPipeError, OSError):
             return
+
+
+def stall(msg: Stall) -> None:
+    """The test hook's wedges, for real: a busy loop, a call that never returns, or bounded work."""
+    if msg.kind == "spin":
+        while True:
+            pass
+    if msg.kind == "block":
+        signal.pause()  # no signal comes (SIGINT is ignored): blocked until killed
+    end = time.process_time() + msg.seconds
+    while time.process_time() < end:
+        pass
 
 
 #: The worker's command line after the interpreter (its classes then pickle as ``nav.slam.worker.*``,
