@@ -38,6 +38,9 @@ class PotVisit:
     moved: bool = False
     """``located`` is off the mission's pose beyond the map's drift there: the pot itself moved
     (and was driven to)."""
+    drift: tuple[float, float] = (0.0, 0.0)
+    """The map's drift from the mission's frame where the pot was located (``located`` less this
+    is where the pot stands in the mission's frame): the offset the moved decision was made on."""
     failures: dict[str, str] = field(default_factory=dict)
     """Step -> why it failed ('approach', 'search', 'arm', 'wrist', 'front')."""
     done: bool = False

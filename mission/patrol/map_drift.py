@@ -15,11 +15,14 @@ neighbours are outvoted; where they do not agree, or there are too few (the firs
 patrol), the drift is taken as zero, as before. The robot also approaches each pot at the
 mission's pose carried by the drift there, so a pot off by the drift alone is stood at right the
 first time (on that greenhouse one stood at 7.6 cm off missed its bloom). The report still gives
-a moved pot's measured position in the map frame.
+a moved pot's position in the mission's frame (``in_mission_frame``: measured less the drift
+there), which ``mission update`` writes back, so the next patrol does not find it moved again.
 """
 from __future__ import annotations
 
 import numpy as np
+
+from behaviours.visit import PotVisit
 
 MIN_NEIGHBOURS = 2
 """Located pots that must agree before their offset counts as the map's drift."""
@@ -49,3 +52,11 @@ class MapDrift:
             return 0.0, 0.0
         mean = agree.mean(axis=0)
         return float(mean[0]), float(mean[1])
+
+
+def in_mission_frame(visit: PotVisit) -> tuple[float, float, float]:
+    """Where the located pot stands in the mission's frame: its map position less the map's drift
+    there. What the report's ``moved`` says and ``mission update`` writes, so the next patrol,
+    whose map drifts alike, finds the pot where the mission now puts it."""
+    x, y, facing = visit.located
+    return x - visit.drift[0], y - visit.drift[1], facing

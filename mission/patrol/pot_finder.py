@@ -21,7 +21,7 @@ from behaviours.visit import PotVisit
 from hw.odometry import Pose2D
 from mission.approach import approach_pose
 from mission.patrol.config import PatrolConfig
-from mission.patrol.map_drift import MapDrift
+from mission.patrol.map_drift import MapDrift, in_mission_frame
 from mission.patrol.mission_file import Mission, MissionPot
 from mission.patrol.tag_sightings import pot_from_tag
 from nav.costmap.grid import INSCRIBED
@@ -64,15 +64,16 @@ class PotFinder:
             return False
         s = pot_from_tag(read, robot, self.config.front_camera_mount, self.config.plate_offset)
         visit.located, visit.own_tag = (s.x, s.y, s.facing), read
-        dx, dy = self.drift.near(pot.x, pot.y)
-        off, turn = math.hypot(s.x - pot.x - dx, s.y - pot.y - dy), self.offset(pot, visit)[1]
+        dx, dy = visit.drift = self.drift.near(pot.x, pot.y)
+        off, turn = self.offset(pot, visit)
         visit.moved = off > self.config.moved_xy or turn > self.config.moved_yaw
         self.drift.record((pot.x, pot.y), (s.x - pot.x, s.y - pot.y))
         return True
 
     def offset(self, pot: MissionPot, visit: PotVisit) -> tuple[float, float]:
-        """How far (m) and how much turned (rad) the located pot is from the mission's."""
-        x, y, facing = visit.located
+        """How far (m) and how much turned (rad) the located pot is from the mission's, in the
+        mission's frame (the map's drift there taken out)."""
+        x, y, facing = in_mission_frame(visit)
         return math.hypot(x - pot.x, y - pot.y), abs(math.remainder(facing - pot.facing, 2 * math.pi))
 
     def approach(self, pot: MissionPot, visit: PotVisit) -> Pose2D:

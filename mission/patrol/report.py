@@ -37,6 +37,7 @@ from hw.atomic_file import write_atomic
 from hw.odometry import Pose2D
 from mission.patrol.climate import ClimateSource
 from mission.patrol.config import PatrolConfig
+from mission.patrol.map_drift import in_mission_frame
 from mission.patrol.mission_file import Mission, MissionPot
 from mission.patrol.tag_sightings import PotEstimate, TagSightings
 from nav.frames import compose, yaw_error
@@ -104,10 +105,12 @@ class PatrolReport:
         elif visit.deferred:
             anomalies.append(("retried_later", f"inspected after the other pots; the first go: {visit.deferred}"))
         if visit.moved:
-            x, y, facing = visit.located
+            x, y, facing = in_mission_frame(visit)
             off = math.hypot(x - pot.x, y - pot.y)
             turn = math.remainder(facing - pot.facing, 2 * math.pi)
-            anomalies.append(("moved", f"{off:.2f} m from the mission's position, turned {turn:+.2f} rad"))
+            anomalies.append(("moved", f"{off:.2f} m from the mission's position, turned {turn:+.2f} rad"
+                                       + (f" (the map's drift there, {math.hypot(*visit.drift):.2f} m, taken out)"
+                                          if any(visit.drift) else "")))
             extra["moved"] = {"x": round(x, 3), "y": round(y, 3), "facing": round(facing, 3)}
         if "arm" in visit.failures:
             anomalies.append(("arm_unavailable", visit.failures["arm"]))

@@ -9,7 +9,7 @@ import pytest
 from behaviours.visit import PotVisit
 from hw.odometry import Pose2D
 from mission.patrol.config import PatrolConfig
-from mission.patrol.map_drift import MapDrift
+from mission.patrol.map_drift import MapDrift, in_mission_frame
 from mission.patrol.mission_file import Mission, MissionPot
 from mission.patrol.pot_finder import PotFinder
 from tests.mission.test_tag_sightings import read
@@ -76,3 +76,27 @@ def test_a_pot_off_by_the_drift_alone_is_approached_where_the_drift_puts_it():
     assert math.hypot(goal.x - ideal[0] - dx, goal.y - ideal[1] - dy) < 0.02  # within 2 cm (the neighbours lag a growing drift)
     assert math.hypot(dx, dy) > 0.08  # the mission's pose alone would be 8 cm off
     assert not visit(finder, last).moved
+
+
+def test_a_moved_pot_is_placed_in_the_missions_frame_and_not_moved_again_after_the_update():
+    """The report's (and ``mission update``'s) pose of a moved pot is the drift-corrected one the
+    decision used: written back, the next patrol on a map that drifts alike finds it in place."""
+    finder = PotFinder(MISSION, None, CONFIG)
+    moved_at = {14: (0.0, -0.07)}
+    visits = {pot.id: visit(finder, pot, moved_at.get(i, (0.0, 0.0))) for i, pot in enumerate(ROW)}
+    p14, v = ROW[14], visits["P14"]
+    x, y, _ = in_mission_frame(v)
+    assert v.moved and math.hypot(*v.drift) > 0.05
+    assert math.hypot(x - p14.x, y - (p14.y - 0.07)) < 0.015  # where it stands, not where the drifted map saw it
+    assert math.hypot(v.located[0] - p14.x, v.located[1] - (p14.y - 0.07)) > 0.05  # the raw read is the drift off
+    updated = p14.model_copy(update={"x": x, "y": y})
+    second = PotFinder(Mission(name="row", pots=[*ROW[:14], updated, *ROW[15:]]), None, CONFIG)
+    for pot in ROW[:14]:
+        visit(second, pot)
+    true = Pose2D(*MISSION.approach(p14))
+    dx, dy = drift_at(p14.x)
+    believed = Pose2D(true.x + dx, true.y + dy, true.yaw)
+    ahead = MISSION.standoff - CONFIG.plate_offset - CONFIG.front_camera_mount[0]
+    again = PotVisit(p14.id)
+    assert second.place(updated, again, (read(p14.tag, 0.0, ahead + 0.07),), believed, CONFIG.tag_max_distance)
+    assert not again.moved
