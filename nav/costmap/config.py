@@ -13,6 +13,29 @@ from pydantic import Field, model_validator
 from hw.config import Strict
 
 
+class PersonLayerConfig(Strict):
+    """The person layer (``nav.costmap.people``, issue 28 item 2): tracked people kept at a
+    distance by the planner and MPPI; pots, benches and walls keep the inflation's distances."""
+
+    clearance: float = Field(0.3, ge=0)
+    """Body to body, m, the robot keeps from a person when passing (issue 28: "at least 0.3 m
+    body to body when passing"): the lethal disc is the person's radius, this and the robot's
+    inscribed radius."""
+    gradient: float = Field(0.25, ge=0)
+    """Reach of the cost falloff beyond the lethal disc, m. The falloff is the inflation's own
+    (252 exp(-k d), k = ``cost_scaling_factor``) so MPPI's obstacle critic, which reads a cost
+    back as a distance, reads the distance past the keep-out; 0.25 m (cost 72) is as far as the
+    critic's repulsion stays positive (it counts out to ``inflation_radius``)."""
+    predict_time: float = Field(1.0, ge=0)
+    """A walker's next seconds of straight walking at its velocity are costly (252 at most,
+    never lethal), s: a path behind a crossing walker is preferred to one across its way, as
+    in Nav2's social layers, and a robot already in that stretch can still drive out of it. 1 s
+    is a walker's 1 m at walking speed, beyond which a straight line is a guess."""
+    min_confidence: float = Field(0.5, ge=0, le=1)
+    """Tracks at least this confident count (the tracker reports anything the map and the known
+    pots do not explain at 0.5: a person until shown otherwise)."""
+
+
 class LocalCostmapConfig(Strict):
     """The 3 x 3 m window rolling with the robot, in ``odom`` (obstacle + inflation layers)."""
 
@@ -27,6 +50,8 @@ class LocalCostmapConfig(Strict):
     inf_is_valid: bool = False
     """Clear along beams with no return out to ``raytrace_max_range`` (Nav2's obstacle-layer
     ``inf_is_valid``, default false: a missing return may be a dark surface, not free space)."""
+    people: PersonLayerConfig = PersonLayerConfig()
+    """The person layer: MPPI keeps its distance from people as it drives."""
 
 
 class GlobalCostmapConfig(Strict):
@@ -44,6 +69,9 @@ class GlobalCostmapConfig(Strict):
     space), so the planner can tell explored from unexplored ground."""
     inf_is_valid: bool = False
     """As the local map's ``inf_is_valid``."""
+    people: PersonLayerConfig = PersonLayerConfig()
+    """The person layer: NavFn goes round a person by another aisle where the one they stand in
+    is too narrow to pass them at ``clearance``."""
     occupied_thresh: float = Field(0.65, gt=0, le=1)
     """Static map cells with occupancy >= this are lethal (seed's map: occupied_thresh 0.65,
     map_server trinary mode)."""

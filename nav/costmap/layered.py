@@ -6,7 +6,11 @@ As Nav2's LayeredCostmap, each update runs the layers in order on a fresh master
 2. obstacle: merged by maximum, except that a layer cell it has not observed (255) leaves the
    master alone and an observed one replaces an unknown master cell (Nav2's updateWithMax), so
    scans uncover unknown space but never erase the map's walls;
-3. inflation: the halo around every lethal cell (``nav.costmap.inflation``).
+3. inflation: the halo around every lethal cell (``nav.costmap.inflation``);
+4. people (both costmaps): tracked people's keep-out discs and falloff written over the
+   inflated master (``nav.costmap.people``; after inflation, since a keep-out already counts the
+   robot's radius). ``without_people`` is the same master with the people's bodies taken out
+   instead: the navigator plans on it to tell "a person is in the only way" from "no way".
 
 ``local_costmap`` is the seed's 3 x 3 m window in ``odom`` rolling with the robot: before each
 update it re-centres on the robot by whole cells (the window's corners stay on the world's
@@ -22,14 +26,18 @@ the bookkeeping Nav2 uses to avoid it (see ``lupin bench nav.local_costmap``).
 from __future__ import annotations
 
 import math
+from typing import Callable
 
 import numpy as np
 
 from hw.interfaces import LidarScan
-from nav.costmap.config import CostmapsConfig
+from hw.odometry import Pose2D
+from hw.people import PeopleSource, nobody
+from nav.costmap.config import CostmapsConfig, PersonLayerConfig
 from nav.costmap.grid import FREE, UNKNOWN, CostGrid
 from nav.costmap.inflation import InflationLayer
 from nav.costmap.obstacle import ObstacleLayer
+from nav.costmap.people import PersonLayer
 from nav.costmap.static import StaticLayer
 from nav.grid_geometry import GridGeometry, paste
 
@@ -43,9 +51,9 @@ START_SIZE = 4.0
 
 class Costmap:
     def __init__(self, frame: CostGrid, obstacle: ObstacleLayer, inflation: InflationLayer,
-                 static: StaticLayer | None = None, rolling: bool = False):
+                 static: StaticLayer | None = None, rolling: bool = False, people: PersonLayer | None = None):
         self._default = int(frame.data.flat[0])
-        self.obstacle, self.inflation, self.static = obstacle, inflation, static
+        self.obstacle, self.inflation, self.static, self.people = obstacle, inflation, static, people
         self.rolling = rolling
         self._grid = frame.copy()
         self._rebuild()
@@ -107,7 +115,18 @@ class Costmap:
         if dx or dy:
             self.obstacle.shift(dx, dy)
 
-    def _rebuild(self) -> None:
+    def without_people(self, margin: float = 0.1) -> CostGrid:
+        """The grid as it would be with the people's bodies (their radius and ``margin``) free:
+        what is left once they step aside. Rebuilt on demand (a failed plan), not kept."""
+        master, geo = self._merged(), self.obstacle.grid.geometry
+        if self.people is not None:
+            cx, cy = geo.centre_of(np.arange(geo.width)[None, :], np.arange(geo.height)[:, None])
+            for p in self.people.present():
+                master[np.hypot(cx - p.x, cy - p.y) <= p.radius + margin] = FREE
+        return CostGrid(self.inflation.apply(master), geo.resolution, geo.origin_x, geo.origin_y)
+
+    def _merged(self) -> np.ndarray:
+        """The static and obstacle layers merged, before inflation."""
         layer = self.obstacle.grid
         if self.static is not None and self.static.costs is not None:
             master = self.static.costs.copy()
@@ -116,20 +135,33 @@ class Costmap:
         seen = layer.data != UNKNOWN
         take = seen & ((master == UNKNOWN) | (layer.data > master))
         master[take] = layer.data[take]
-        self._grid = CostGrid(self.inflation.apply(master), layer.resolution, layer.origin_x, layer.origin_y)
+        return master
+
+    def _rebuild(self) -> None:
+        layer = self.obstacle.grid
+        costs = self.inflation.apply(self._merged())
+        if self.people is not None:
+            costs = self.people.apply(costs, layer.geometry)
+        self._grid = CostGrid(costs, layer.resolution, layer.origin_x, layer.origin_y)
 
 
 def _inflation(cfg: CostmapsConfig) -> InflationLayer:
     return InflationLayer(cfg.resolution, cfg.robot_radius, cfg.inflation_radius, cfg.cost_scaling_factor)
 
 
+def _people(cfg: CostmapsConfig, layer: PersonLayerConfig, people: PeopleSource,
+            frame: Callable[[], Pose2D]) -> PersonLayer:
+    return PersonLayer(layer, cfg.robot_radius, cfg.cost_scaling_factor, people, frame)
+
+
 def _cells(metres: float, resolution: float) -> int:
     return max(1, int(round(metres / resolution)))
 
 
-def local_costmap(cfg: CostmapsConfig) -> Costmap:
-    """The 3 x 3 m window rolling with the robot (``odom``), obstacle + inflation, starts free
-    (or unknown with ``track_unknown_space``); centred on the odom origin until the first update."""
+def local_costmap(cfg: CostmapsConfig, people: PeopleSource = nobody) -> Costmap:
+    """The 3 x 3 m window rolling with the robot (``odom``), obstacle + inflation + people
+    (``people``: the tracker's, in odom), starts free (or unknown with ``track_unknown_space``);
+    centred on the odom origin until the first update."""
     lc, res = cfg.local_costmap, cfg.resolution
     n = _cells(lc.size, res)
     default = UNKNOWN if lc.track_unknown_space else FREE
@@ -137,12 +169,15 @@ def local_costmap(cfg: CostmapsConfig) -> Costmap:
     frame = CostGrid.filled(n, n, res, corner, corner, default)
     obstacle = ObstacleLayer(frame.copy(), cfg.obstacle_min_range, lc.obstacle_max_range, lc.raytrace_max_range,
                              lc.inf_is_valid)
-    return Costmap(frame, obstacle, _inflation(cfg), rolling=True)
+    return Costmap(frame, obstacle, _inflation(cfg), rolling=True,
+                   people=_people(cfg, lc.people, people, Pose2D))
 
 
-def global_costmap(cfg: CostmapsConfig) -> Costmap:
-    """The growing map in ``map``, static + obstacle + inflation; starts as an unknown patch
-    ``START_SIZE`` across round the map origin."""
+def global_costmap(cfg: CostmapsConfig, people: PeopleSource = nobody,
+                   odom_in_map: Callable[[], Pose2D] = Pose2D) -> Costmap:
+    """The growing map in ``map``, static + obstacle + inflation + people (the tracker's, in
+    odom, placed by ``odom_in_map``: the localisation's ``map -> odom``); starts as an unknown
+    patch ``START_SIZE`` across round the map origin."""
     gc, res = cfg.global_costmap, cfg.resolution
     default = UNKNOWN if gc.track_unknown_space else FREE
     start = GridGeometry.covering(-START_SIZE / 2, -START_SIZE / 2, START_SIZE / 2, START_SIZE / 2, res)
@@ -150,4 +185,4 @@ def global_costmap(cfg: CostmapsConfig) -> Costmap:
     obstacle = ObstacleLayer(frame.copy(), cfg.obstacle_min_range, gc.obstacle_max_range, gc.raytrace_max_range,
                              gc.inf_is_valid)
     static = StaticLayer(gc.free_thresh, gc.occupied_thresh, gc.track_unknown_space)
-    return Costmap(frame, obstacle, _inflation(cfg), static)
+    return Costmap(frame, obstacle, _inflation(cfg), static, people=_people(cfg, gc.people, people, odom_in_map))

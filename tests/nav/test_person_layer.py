@@ -1,0 +1,106 @@
+"""The person layer (issue 28 item 2): a lethal keep-out round each person (their radius, 0.3 m
+of clearance and the robot's radius), the inflation's falloff beyond, a costly stretch ahead of a
+walker; people only (pots keep their distances); NavFn goes round by another aisle, and the
+grid without people tells a person in the only way from no way at all."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from hw.odometry import Pose2D
+from hw.people import Person
+from nav.config import NavConfig
+from nav.costmap.grid import LETHAL, UNKNOWN
+from nav.costmap.layered import global_costmap, local_costmap
+from nav.planner import NavfnPlanner, PlanningError
+
+CFG = NavConfig()
+R = CFG.costmap.robot_radius
+STANDING = Person(id=1, x=0.0, y=0.0, vx=0.0, vy=0.0, radius=0.2, confidence=0.9)
+KEEP_OUT = 0.2 + 0.3 + R
+
+
+def cost(costmap, x, y) -> int:
+    return int(costmap.grid.cost_at(np.array([x]), np.array([y]))[0])
+
+
+def test_a_standing_person_is_lethal_to_the_keep_out_then_falls_off_then_nothing():
+    cm = local_costmap(CFG.costmap, lambda: [STANDING])
+    assert cost(cm, KEEP_OUT - 0.04, 0.0) == LETHAL
+    assert cost(cm, 0.0, -(KEEP_OUT - 0.04)) == LETHAL
+    just_past = cost(cm, KEEP_OUT + 0.06, 0.0)
+    further = cost(cm, KEEP_OUT + 0.16, 0.0)
+    assert 252 >= just_past > further >= 72  # the inflation's falloff, as the critic reads it
+    assert cost(cm, KEEP_OUT + 0.35, 0.0) == 0
+
+
+def test_a_walker_makes_its_next_second_costly_but_not_lethal_and_nothing_behind():
+    walker = Person(id=2, x=0.0, y=0.0, vx=0.0, vy=0.8, radius=0.2, confidence=0.9)
+    cm = local_costmap(CFG.costmap, lambda: [walker])
+    ahead = cost(cm, 0.0, KEEP_OUT + 0.5)  # 0.5 m further along its way: inside the 0.8 m stretch
+    assert 200 <= ahead < LETHAL
+    assert cost(cm, 0.0, -(KEEP_OUT + 0.5)) == 0  # as far behind it: free
+
+
+def test_unsure_tracks_and_nobody_change_nothing():
+    plain = local_costmap(CFG.costmap).grid.data
+    unsure = Person(id=3, x=0.0, y=0.0, vx=0.0, vy=0.0, radius=0.2, confidence=0.2)
+    assert np.array_equal(local_costmap(CFG.costmap, lambda: [unsure]).grid.data, plain)
+    assert not np.any(plain)
+
+
+def test_people_come_in_odom_and_the_global_costmap_places_them_by_map_to_odom():
+    odom_in_map = Pose2D(1.0, 0.0, math.pi / 2)
+    cm = global_costmap(CFG.costmap, lambda: [Person(4, 1.0, 0.0, 0.0, 0.0, 0.2, 0.9)], lambda: odom_in_map)
+    cm.cover(-1.0, -1.0, 3.0, 3.0)
+    assert cost(cm, 1.0, 1.0) == LETHAL  # odom (1, 0) is map (1, 1)
+    assert cost(cm, 1.0 + KEEP_OUT + 0.4, 1.0) == UNKNOWN  # beyond the person: still unexplored
+
+
+# -- planning round people -----------------------------------------------------------------------
+
+RES = 0.05
+
+
+def two_aisles() -> np.ndarray:
+    """6 x 3.2 m walled floor, a bench x 1.5..4.5, y 1.4..1.8 down the middle: a south aisle
+    (y 0.05..1.4) and a north one (y 1.8..3.15), each too narrow to pass a person in it at 0.3 m."""
+    w, h = int(6.0 / RES), int(3.2 / RES)
+    occ = np.zeros((h, w), dtype=np.int8)
+    occ[0, :] = occ[-1, :] = occ[:, 0] = occ[:, -1] = 100
+    occ[int(1.4 / RES):int(1.8 / RES), int(1.5 / RES):int(4.5 / RES)] = 100
+    return occ
+
+
+def planned(people):
+    cm = global_costmap(CFG.costmap, lambda: people)
+    cm.set_static(two_aisles(), RES, 0.0, 0.0)
+    return cm, NavfnPlanner(CFG.planner)
+
+
+def test_navfn_goes_round_by_the_other_aisle_when_a_person_stands_in_one():
+    cm, planner = planned([Person(5, 3.0, 0.72, 0.0, 0.0, 0.2, 0.9)])
+    path = planner.plan(cm.grid, (0.7, 1.6), (5.3, 1.6))
+    assert path[:, 1].max() > 1.9  # by the north aisle
+    d = np.hypot(path[:, 0] - 3.0, path[:, 1] - 0.72) - 0.2 - R
+    assert d.min() >= 0.3  # body to body
+
+
+def test_with_both_aisles_held_there_is_no_path_but_there_is_one_once_they_step_aside():
+    cm, planner = planned([Person(5, 3.0, 0.72, 0.0, 0.0, 0.2, 0.9), Person(6, 3.0, 2.48, 0.0, 0.0, 0.2, 0.9)])
+    with pytest.raises(PlanningError):
+        planner.plan(cm.grid, (0.7, 1.6), (5.3, 1.6))
+    assert len(planner.plan(cm.without_people(), (0.7, 1.6), (5.3, 1.6))) > 50
+
+
+def test_pots_keep_todays_distances_with_a_person_elsewhere():
+    alone, _ = planned([])
+    near, _ = planned([Person(5, 3.0, 0.72, 0.0, 0.0, 0.2, 0.9)])
+    a, b = alone.grid.data, near.grid.data
+    gy, gx = np.mgrid[0:a.shape[0], 0:a.shape[1]]
+    cx, cy = near.grid.geometry.centre_of(gx, gy)
+    far = np.hypot(cx - 3.0, cy - 0.72) > KEEP_OUT + 0.3
+    assert np.array_equal(a[far], b[far])
+    assert not np.array_equal(a, b)
