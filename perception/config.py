@@ -1,4 +1,5 @@
-"""Configuration of perception: the HSV flower detector, the AprilTag reader, camera rates.
+"""Configuration of perception: the HSV flower detector, the AprilTag reader, camera rates, the
+person tracker (its section lives in ``perception.people.config``).
 
 The HSV table starts from the original sim detector (reference/upstream.md, OpenCV H 0..179)
 and is retuned on frames the sim renders at ``inspect`` under jittered lighting (the
@@ -14,6 +15,7 @@ from pydantic import Field, model_validator
 
 from hw.camera_model import camera_matrix
 from hw.config import Strict
+from perception.people.config import PeopleConfig
 
 
 class HsvRange(Strict):
@@ -154,6 +156,8 @@ class PerceptionConfig(Strict):
     """Wrist (USB gripper) camera intrinsics (sim: fovy 50 deg, untuned)."""
     rates: CameraRates = CameraRates()
     """Producer-side frame rate caps per camera."""
+    people: PeopleConfig = PeopleConfig()
+    """The person tracker on the lidar scan (``perception.people``)."""
     jpeg_quality: int = Field(80, ge=10, le=100)
     """JPEG quality for every frame that leaves the robot (seed: only JPEG crosses the link,
     ~50 kB per 640x480 frame)."""

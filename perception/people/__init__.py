@@ -2,12 +2,20 @@
 
 A module per idea:
 
-- :mod:`perception.people.config`: :class:`PeopleConfig`, the tracker's thresholds.
+- :mod:`perception.people.explained`: :class:`StaticScene`, which returns the map at patrol
+  start and the known pots account for (and why not the live SLAM map).
+- :mod:`perception.people.segments`: the scan split at range jumps into segments.
+- :mod:`perception.people.bodies`: segments joined into bodies (legs paired within 0.8 m, a cart
+  to its pusher), walls rejected by size, each body's shape scored.
+- :mod:`perception.people.motion`: the constant-velocity Kalman filter, batched over tracks.
 - :mod:`perception.people.tracker`: :class:`PersonTracker`, scan in, ``hw.people.Person`` out.
+- :mod:`perception.people.config`: :class:`PeopleConfig`, every threshold and why.
 
-Only hw/ is imported from below: the tracker hands its tracks down as ``hw.people.Person``.
+Only hw/ is imported from below: the tracker hands its tracks down as ``hw.people.Person``. It
+runs on the robot's CPU with no learned weights (the issue: nothing fetched at run time).
 """
 from perception.people.config import PeopleConfig
-from perception.people.tracker import PersonTracker
+from perception.people.explained import StaticScene, explained_mask
+from perception.people.tracker import PersonTracker, odom_points
 
-__all__ = ["PeopleConfig", "PersonTracker"]
+__all__ = ["PeopleConfig", "PersonTracker", "StaticScene", "explained_mask", "odom_points"]

@@ -1,10 +1,28 @@
-"""The person tracker: the scan's unexplained returns in, tracked people out."""
+"""The person tracker: the scan's unexplained returns in, tracked people out, at the scan rate.
+
+Per scan: drop the returns the static map or a known pot explains (``explained``), the robot's
+own arm and what lies beyond ``max_range``; split the rest into segments (``segments``), join
+them into bodies and score their shape (``bodies``); predict every track with its
+constant-velocity filter (``motion``), give each track the nearest body within ``gate``
+(greedy on distance, nearest pair first: with a handful of people in a greenhouse aisle that is
+what the Hungarian method would choose), correct the matched tracks, start a track per body
+left over, and delete tracks unseen for ``drop_after``. A track is reported from its first
+detection (anything unexplained near the path is a person until shown otherwise) while it was
+seen within ``coast``; its confidence is the most person-like shape it has shown, 1 once it has
+walked, fading while it is not seen.
+
+Nothing here reads a clock: time is the scan's ``stamp``.
+"""
 from __future__ import annotations
+
 
 import numpy as np
 
 from hw.people import Person
+from perception.people import motion
+from perception.people.bodies import Bodies, group
 from perception.people.config import PeopleConfig
+from perception.people.segments import split
 
 
 class PersonTracker:
@@ -12,11 +30,106 @@ class PersonTracker:
 
     def __init__(self, config: PeopleConfig):
         self.config = config
+        self._next_id = 1
+        self._stamp: float | None = None
+        self.ids = np.zeros(0, dtype=int)
+        self.x = np.zeros((0, 4))
+        self.p = np.zeros((0, 4, 4))
+        self.born = np.zeros(0)
+        self.seen = np.zeros(0)
+        self.shape = np.zeros(0)
+        self.radius = np.zeros(0)
+        self.people: tuple[Person, ...] = ()
+        """The people of the last update (what a ``hw.people.PeopleSource`` hands out)."""
+
+    def __call__(self) -> tuple[Person, ...]:
+        """The tracker as a ``hw.people.PeopleSource``: the last update's people."""
+        return self.people
+
+    def detect(self, points: np.ndarray, robot: tuple[float, float, float], explained: np.ndarray) -> Bodies:
+        """One scan's person candidates (no tracking): see :meth:`update`."""
+        c = self.config
+        pts = np.asarray(points, dtype=float).reshape(-1, 2)
+        robot_xy = np.array(robot[:2], dtype=float)
+        ranges = np.hypot(*(pts - robot_xy).T)
+        keep = ~np.asarray(explained, dtype=bool) & (ranges >= c.min_range) & (ranges <= c.max_range)
+        pts, ranges = pts[keep], ranges[keep]
+        return group(pts, split(pts, ranges, c.jump, c.jump_per_metre), robot_xy, c)
 
     def update(self, stamp: float, points: np.ndarray, robot: tuple[float, float, float],
                explained: np.ndarray) -> tuple[Person, ...]:
         """One scan: ``stamp`` its time (s, the runtime's clock), ``points`` its valid returns
-        as (N, 2) in the odom frame, ``robot`` the robot's odom pose (x, y, yaw), ``explained``
-        an (N,) bool mask of the returns the map or a known pot accounts for. Returns the
-        current people (odom frame), confirmed or not, each with its confidence."""
-        return ()
+        as (N, 2) in the odom frame and in scan order (neighbours in angle are neighbours in the
+        array), ``robot`` the robot's odom pose (x, y, yaw), ``explained`` an (N,) bool mask of
+        the returns the static map or a known pot accounts for (``explained.StaticScene``).
+        Returns the current people (odom frame), each with its confidence."""
+        c = self.config
+        bodies = self.detect(points, robot, explained)
+        dt = 0.0 if self._stamp is None else max(stamp - self._stamp, 0.0)
+        self._stamp = stamp
+        if len(self.ids) and dt > 0:
+            self.x, self.p = motion.predict(self.x, self.p, dt, c.accel_std)
+        track, body = self._associate(bodies)
+        if len(track):
+            self.x[track], self.p[track] = motion.correct(self.x[track], self.p[track], bodies.centre[body],
+                                                          c.measurement_std)
+            self.seen[track] = stamp
+            self.shape[track] = np.maximum(self.shape[track], bodies.confidence[body])
+            self.radius[track] = bodies.radius[body]
+        fresh = np.setdiff1d(np.arange(len(bodies)), body)
+        if len(fresh):
+            x, p = motion.start(bodies.centre[fresh], c.measurement_std)
+            self.ids = np.concatenate([self.ids, self._next_id + np.arange(len(fresh))])
+            self._next_id += len(fresh)
+            self.x, self.p = np.concatenate([self.x, x]), np.concatenate([self.p, p])
+            self.born = np.concatenate([self.born, np.full(len(fresh), stamp)])
+            self.seen = np.concatenate([self.seen, np.full(len(fresh), stamp)])
+            self.shape = np.concatenate([self.shape, bodies.confidence[fresh]])
+            self.radius = np.concatenate([self.radius, bodies.radius[fresh]])
+        alive = stamp - self.seen < c.drop_after
+        for name in ("ids", "x", "p", "born", "seen", "shape", "radius"):
+            setattr(self, name, getattr(self, name)[alive])
+        self.people = self._report(stamp)
+        return self.people
+
+    def _associate(self, bodies: Bodies) -> tuple[np.ndarray, np.ndarray]:
+        """Matched (track indices, body indices): nearest pairs first, each within the gate."""
+        if not len(self.ids) or not len(bodies):
+            return np.zeros(0, int), np.zeros(0, int)
+        d = np.hypot(*(self.x[:, None, :2] - bodies.centre[None, :, :]).transpose(2, 0, 1))
+        tracks, body_of = [], []
+        used_t, used_b = set(), set()
+        for flat in np.argsort(d, axis=None):
+            t, b = divmod(int(flat), d.shape[1])
+            if d[t, b] > self.config.gate:
+                break
+            if t in used_t or b in used_b:
+                continue
+            used_t.add(t)
+            used_b.add(b)
+            tracks.append(t)
+            body_of.append(b)
+        return np.array(tracks, int), np.array(body_of, int)
+
+    def _report(self, stamp: float) -> tuple[Person, ...]:
+        c = self.config
+        missed = stamp - self.seen
+        speed = np.hypot(self.x[:, 2], self.x[:, 3])
+        walked = (speed > c.moving_speed) & (self.seen - self.born >= c.settle_time)
+        confidence = np.where(walked, 1.0, self.shape) * (1.0 - missed / c.drop_after)
+        still = speed < c.still_speed
+        out = []
+        for k in np.flatnonzero(missed <= c.coast):
+            vx, vy = (0.0, 0.0) if still[k] else (float(self.x[k, 2]), float(self.x[k, 3]))
+            out.append(Person(int(self.ids[k]), float(self.x[k, 0]), float(self.x[k, 1]), vx, vy,
+                              float(self.radius[k]), round(float(confidence[k]), 3)))
+        return tuple(out)
+
+
+def odom_points(scan_angles: np.ndarray, scan_ranges: np.ndarray, lidar_pose: tuple[float, float, float]) -> np.ndarray:
+    """A scan's finite returns as (N, 2) points in scan order, given the lidar's pose in the
+    frame wanted (odom, or map for :class:`~perception.people.explained.StaticScene`)."""
+    ok = np.isfinite(scan_ranges)
+    a = scan_angles[ok].astype(float) + lidar_pose[2]
+    r = scan_ranges[ok].astype(float)
+    return np.stack([lidar_pose[0] + r * np.cos(a), lidar_pose[1] + r * np.sin(a)], axis=1)

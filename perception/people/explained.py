@@ -1,0 +1,72 @@
+"""Which returns the greenhouse itself accounts for: the static map and the known pots.
+
+The trap: the SLAM map is built from the same scans the tracker reads, so a worker standing
+still at a bench for a minute is written into the live map, and a tracker that asked the live
+map "is this in the map?" would stop seeing them exactly when they matter most (someone the
+robot must pass). Nor can a lidar alone tell a standing worker's outline from a crate's: a
+rule that lets long-occupied cells explain returns absorbs both. So "in the map" means the map
+as it stood when the patrol started (a saved map, the survey's, the previous patrol's, or the
+SLAM map at the start), frozen in a :class:`StaticScene`, plus the pots the mission knows: what
+the greenhouse held before anybody of interest walked in. Whoever assembles the runtime
+rebuilds the scene at the start of a patrol, never from the live map during one. What the
+frozen map does not hold (a crate put down since) is, near the path, treated as a person until
+shown otherwise, which is the issue's rule and the safe side.
+
+The scene is the map's occupied cells (map_server's threshold, ``OccupancyMap.occupied``) grown
+by ``margin`` and the pots' discs (radius + margin) painted into the same grid once, so each
+scan costs one lookup per return. Points are in the map's frame.
+"""
+from __future__ import annotations
+
+from typing import Optional
+
+import cv2
+import numpy as np
+
+
+class StaticScene:
+    """The frozen occupancy of the greenhouse: map cells and known pots, grown by a margin."""
+
+    def __init__(self, grid, pots_xy: np.ndarray, pot_radius: float, margin: float):
+        """``grid``: a map_server-style map (``nav.occupancy.OccupancyMap``: its ``occupied()``
+        cells and its ``geometry``) or None (no map: only the pots explain returns);
+        ``pots_xy``: (P, 2) known pot centres, map frame; ``pot_radius``, ``margin``: m."""
+        pots = np.asarray(pots_xy, dtype=float).reshape(-1, 2)
+        self.pots, self.reach = pots, pot_radius + margin
+        self.geometry: Optional[object] = None
+        if grid is None:
+            return
+        g = grid.geometry
+        cells = int(np.ceil(margin / g.resolution))
+        k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * cells + 1, 2 * cells + 1))
+        static = cv2.dilate(grid.occupied().astype(np.uint8), k) if cells else grid.occupied().astype(np.uint8)
+        # the pots' discs, painted at the cells whose centre lies within reach
+        for x, y in pots:
+            ix, iy = g.cell_of(x, y)
+            r = int(np.ceil(self.reach / g.resolution)) + 1
+            xs, ys = np.meshgrid(np.arange(ix - r, ix + r + 1), np.arange(iy - r, iy + r + 1))
+            cx, cy = g.centre_of(xs, ys)
+            inside = (np.hypot(cx - x, cy - y) <= self.reach) & g.contains(xs, ys)
+            static[ys[inside], xs[inside]] = 1
+        self.geometry, self.static = g, static.astype(bool).ravel()
+
+    def explained(self, points_map: np.ndarray) -> np.ndarray:
+        """(N,) bool: which of the (N, 2) map-frame returns the frozen map or a known pot
+        accounts for."""
+        pts = np.asarray(points_map, dtype=float).reshape(-1, 2)
+        if self.geometry is not None:
+            flat = self.geometry.flat_index(pts[:, 0], pts[:, 1])
+            out = np.where(flat >= 0, self.static[np.maximum(flat, 0)], False)
+            off = flat < 0  # beyond the map: only the pots can explain these
+        else:
+            out, off = np.zeros(len(pts), bool), np.ones(len(pts), bool)
+        if off.any() and len(self.pots):
+            d = np.hypot(*(pts[off, None, :] - self.pots[None, :, :]).transpose(2, 0, 1)).min(axis=1)
+            out[off] = d <= self.reach
+        return out
+
+
+def explained_mask(points_map: np.ndarray, grid, pots_xy: np.ndarray, pot_radius: float,
+                   margin: float) -> np.ndarray:
+    """One-off :meth:`StaticScene.explained` (build the scene once and reuse it per scan)."""
+    return StaticScene(grid, pots_xy, pot_radius, margin).explained(points_map)

@@ -1,0 +1,56 @@
+"""Segmentation of a scan: neighbouring returns closer than a jump make one segment.
+
+The returns come in scan order (the lidar's rotation), so two returns next to each other in the
+array are neighbours in angle; a gap between them wider than the jump threshold (range
+dependent: the C1's angular step spreads returns with range) separates two objects. This is
+leg_tracker's and DR-SPAAM's first step, vectorised: no per-point Python.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Segments:
+    """Contiguous runs of returns, as arrays over the segments."""
+
+    start: np.ndarray
+    """Index of each segment's first return (int, ascending)."""
+    count: np.ndarray
+    """Returns per segment."""
+    centre: np.ndarray
+    """(S, 2) mean of each segment's returns."""
+    lo: np.ndarray
+    """(S, 2) lower-left corner of each segment's bounding box."""
+    hi: np.ndarray
+    """(S, 2) upper-right corner."""
+
+    def subset(self, keep: np.ndarray) -> "Segments":
+        """The segments where ``keep`` holds, their returns renumbered contiguously (the
+        caller keeps the same returns)."""
+        count = self.count[keep]
+        return Segments(np.concatenate([[0], np.cumsum(count)[:-1]]).astype(int), count,
+                        self.centre[keep], self.lo[keep], self.hi[keep])
+
+    @property
+    def width(self) -> np.ndarray:
+        """Bounding-box diagonal of each segment, m."""
+        return np.hypot(*(self.hi - self.lo).T)
+
+
+def split(points: np.ndarray, ranges: np.ndarray, jump: float, jump_per_metre: float) -> Segments:
+    """Segments of ``points`` ((N, 2), scan order) whose ``ranges`` from the lidar are given."""
+    n = len(points)
+    if n == 0:
+        empty = np.zeros((0, 2))
+        return Segments(np.zeros(0, int), np.zeros(0, int), empty, empty, empty)
+    gaps = np.hypot(*np.diff(points, axis=0).T)
+    breaks = gaps > jump + jump_per_metre * np.minimum(ranges[1:], ranges[:-1])
+    start = np.concatenate([[0], np.flatnonzero(breaks) + 1])
+    count = np.diff(np.concatenate([start, [n]]))
+    centre = np.add.reduceat(points, start, axis=0) / count[:, None]
+    lo = np.minimum.reduceat(points, start, axis=0)
+    hi = np.maximum.reduceat(points, start, axis=0)
+    return Segments(start, count, centre, lo, hi)
