@@ -94,7 +94,7 @@ def start_navigate(world: World, config: LupinConfig) -> NavigateRun:
     rt = start_sim_runtime(world, config)
     sim, robot = rt.sim, rt.robot
     spawn = Pose2D(world.spawn.x, world.spawn.y, world.spawn.yaw)
-    run = NavigateRun(sim, robot, attach_navigation(robot), spawn)
+    run = NavigateRun(sim, robot, rt.state, attach_navigation(robot), spawn)
     run.contacts = ContactLog(sim.touching)
     sim.engine.attach(run.contacts)
 
