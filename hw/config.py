@@ -199,6 +199,25 @@ class CollisionMonitorConfig(Strict):
         return v
 
 
+class PeopleGuardConfig(Strict):
+    """The speed rules for people (issue 28 item 2), below the mux beside the collision monitor
+    (``hw.people_guard``), on the person tracker's people: pots, benches and walls are not
+    people, so they keep today's approach distances."""
+
+    slow_distance: float = Field(1.0, gt=0)
+    """Body to body, m, inside which the robot drives slowly (issue 28: "at most 0.15 m/s within
+    1.0 m of a person")."""
+    slow_speed: float = Field(0.15, gt=0)
+    """Most linear speed within ``slow_distance`` of a person, m/s (issue 28)."""
+    near_distance: float = Field(0.5, gt=0)
+    """Body to body, m, inside which no motion towards the person is allowed (issue 28: "never
+    drive towards a person nearer than 0.5 m"): the share of the twist towards them is removed,
+    sideways and away still pass."""
+    min_confidence: float = Field(0.5, ge=0, le=1)
+    """Tracks at least this confident count (the tracker reports anything unexplained at 0.5:
+    a person until shown otherwise, the safe side)."""
+
+
 class HwConfig(Strict):
     """Hardware services: the same in sim and on the robot."""
 
@@ -208,6 +227,8 @@ class HwConfig(Strict):
     """The twist_mux: the only path from any velocity source to the wheels."""
     collision_monitor: CollisionMonitorConfig = CollisionMonitorConfig()
     """The last check between the mux and the wheels, on the raw scan."""
+    people_guard: PeopleGuardConfig = PeopleGuardConfig()
+    """The speed rules near tracked people, above the collision monitor."""
     estop: EStopConfig = EStopConfig()
     """The e-stop bridge: physical button OR operator soft stop."""
     leds: LedConfig = LedConfig()

@@ -1,0 +1,133 @@
+"""The people guard: issue 28's speed rules near people, on every twist the mux lets through.
+
+"At most 0.15 m/s within 1.0 m of a person; never drive towards a person nearer than 0.5 m."
+The costmaps' person layer makes navigation plan and drive round people; these rules hold for
+every source (autonomy, console, gamepad), so they sit where the collision monitor sits: between
+the twist_mux and the wheels, judged on the base controller's beat. In order:
+
+1. the e-stop, checked by the base controller before any guard (unchanged);
+2. this guard: with a person (``hw.people.Person``, at least ``min_confidence``) nearer than
+   ``slow_distance`` body to body, the whole twist is scaled so the linear speed is at most
+   ``slow_speed`` (the path's curvature kept, as the monitor's slowdown does); then, for every
+   person nearer than ``near_distance``, the component of the linear motion towards them is
+   removed (sideways and away still pass; turning on the spot sweeps nothing with a circular
+   footprint);
+3. ``below``, the collision monitor: its geometric stop zone on the raw scan stays the last
+   line, and nothing here can switch it off (a person the tracker missed or got wrong is still
+   an obstacle to it).
+
+The guard only ever scales or removes motion, never adds or turns any. People come as data
+(``hw.people.PeopleSource``, odom frame, read each tick) with the robot's odom pose: ``hw``
+never imports perception, the runtime hands the tracker's tracks in. Body to body is from the
+footprint circle (``nav.costmap.robot_radius``, passed in) to the person's radius.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable, Protocol
+
+import numpy as np
+
+from hw.config import PeopleGuardConfig
+from hw.interfaces import Twist
+from hw.odometry import Pose2D
+from hw.people import PeopleSource, nobody
+
+#: Below this linear speed (m/s) the base only turns: nothing to judge.
+MOVING = 1e-3
+
+NONE, SLOW, AWAY = "none", "slow", "away"
+
+
+class TwistGuard(Protocol):
+    def filter(self, twist: Twist, now: float) -> Twist: ...
+
+
+@dataclass(frozen=True)
+class PeopleVerdict:
+    """What the guard did to one twist, and why."""
+
+    action: str
+    """``none``, ``slow`` (capped near a person) or ``away`` (motion towards a near person removed)."""
+    scale: float
+    """Linear speed let through over the speed commanded (1 untouched, 0 none of it)."""
+    nearest: float
+    """Body-to-body distance to the nearest person, m (inf: nobody)."""
+
+    @property
+    def holding(self) -> bool:
+        """The base is kept from driving where it was told (nearly all its motion removed)."""
+        return self.action == AWAY and self.scale < 0.1
+
+
+CLEAR = PeopleVerdict(NONE, 1.0, math.inf)
+
+
+class PeopleGuard:
+    def __init__(self, config: PeopleGuardConfig, pose: Callable[[], Pose2D], footprint_radius: float,
+                 people: PeopleSource = nobody, below: TwistGuard | None = None):
+        self.config = config
+        self.pose = pose
+        """The robot's odom pose (wheel odometry): the frame people come in."""
+        self.radius = footprint_radius
+        self.people = people
+        """The tracker's people; ``hw.people.nobody`` until a tracker runs."""
+        self.below = below
+        """The next guard down (the collision monitor), handed what this one lets through."""
+        self.verdict = CLEAR
+        """The last twist's verdict."""
+
+    def filter(self, twist: Twist, now: float) -> Twist:
+        out = self.judge(twist)
+        return self.below.filter(out, now) if self.below is not None else out
+
+    def judge(self, twist: Twist) -> Twist:
+        """The twist the people rules allow (``filter`` without what lies below)."""
+        speed = math.hypot(twist.vx, twist.vy)
+        near = self._near()
+        if speed < MOVING or near is None:
+            self.verdict = CLEAR if near is None else PeopleVerdict(NONE, 1.0, float(near[1].min()))
+            return twist
+        toward, gap = near
+        c = self.config
+        action, v, wz = NONE, np.array([twist.vx, twist.vy]), twist.wz
+        if gap.min() < c.slow_distance and speed > c.slow_speed:
+            s = c.slow_speed / speed
+            action, v, wz = SLOW, v * s, wz * s
+        close = toward[gap < c.near_distance]
+        if len(close):
+            before = float(np.hypot(*v))
+            v = _without_towards(v, close)
+            action = AWAY if float(np.hypot(*v)) < before - 1e-9 else action
+        scale = float(np.hypot(*v)) / speed
+        self.verdict = PeopleVerdict(action, scale, float(gap.min()))
+        return twist if action == NONE else Twist(float(v[0]), float(v[1]), wz)
+
+    def _near(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """Unit directions to the people that count (base frame, (P, 2)) and their body-to-body
+        distances; None with nobody about."""
+        people = [p for p in self.people() if p.confidence >= self.config.min_confidence]
+        if not people:
+            return None
+        r = self.pose()
+        d = np.array([[p.x - r.x, p.y - r.y] for p in people])
+        c, s = math.cos(r.yaw), math.sin(r.yaw)
+        base = d @ np.array([[c, -s], [s, c]])  # world -> base: rotate by -yaw
+        dist = np.maximum(np.hypot(base[:, 0], base[:, 1]), 1e-9)
+        gap = dist - np.array([p.radius for p in people]) - self.radius
+        return base / dist[:, None], gap
+
+
+def _without_towards(v: np.ndarray, toward: np.ndarray) -> np.ndarray:
+    """``v`` less its component towards each of the unit directions ``toward``. Taking one out
+    can add some towards another (two people either side ahead); what still points at anyone
+    after two rounds is stopped."""
+    for _ in range(2):
+        for u in toward:
+            along = float(v @ u)
+            if along > 0.0:
+                v = v - along * u
+    if np.any(toward @ v > 1e-9):
+        return np.zeros(2)
+    return v

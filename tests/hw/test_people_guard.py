@@ -1,0 +1,124 @@
+"""The people guard (hw/people_guard.py): at most 0.15 m/s within 1.0 m of a person body to
+body, no motion towards a person nearer than 0.5 m (sideways and away pass), unsure tracks and
+nobody change nothing, the robot's heading and odom pose are honoured, and on the base it sits
+below the e-stop and above the collision monitor, for every mux source."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from hw.config import HwConfig, PeopleGuardConfig
+from hw.interfaces import Twist
+from hw.odometry import Pose2D
+from hw.people import Person
+from hw.people_guard import AWAY, NONE, SLOW, PeopleGuard
+from tests.fixtures import make_base_rig
+
+R = 0.22
+
+
+def guard(*people: Person, pose: Pose2D = Pose2D()) -> PeopleGuard:
+    return PeopleGuard(PeopleGuardConfig(), lambda: pose, R, lambda: people)
+
+
+def at(x: float, y: float, radius: float = 0.2, confidence: float = 0.9) -> Person:
+    return Person(1, x, y, 0.0, 0.0, radius, confidence)
+
+
+def speed(t: Twist) -> float:
+    return math.hypot(t.vx, t.vy)
+
+
+def test_nobody_or_far_away_changes_nothing():
+    t = Twist(0.4, 0.1, 0.3)
+    assert guard().judge(t) == t
+    g = guard(at(0.0, 1.5))  # 1.08 m body to body
+    assert g.judge(t) == t and g.verdict.action == NONE
+
+
+def test_within_a_metre_the_speed_is_capped_at_0_15_keeping_the_curvature():
+    g = guard(at(0.0, 1.3))  # 0.88 m beside the path
+    out = g.judge(Twist(0.4, 0.0, 0.2))
+    assert speed(out) == pytest.approx(0.15)
+    assert out.wz / out.vx == pytest.approx(0.2 / 0.4)
+    assert g.verdict.action == SLOW and g.verdict.nearest == pytest.approx(0.88)
+    assert g.judge(Twist(0.1, 0.0, 0.0)) == Twist(0.1, 0.0, 0.0)  # already slow enough
+
+
+def test_nearer_than_half_a_metre_motion_towards_is_removed_sideways_and_away_pass():
+    g = guard(at(0.8, 0.0))  # 0.38 m ahead
+    assert speed(g.judge(Twist(0.3, 0.0, 0.0))) == pytest.approx(0.0)
+    assert g.verdict.action == AWAY and g.verdict.holding
+    side = g.judge(Twist(0.1, 0.1, 0.0))
+    assert side.vx == pytest.approx(0.0) and side.vy == pytest.approx(0.1)  # the strafe past them stays
+    assert not g.verdict.holding
+    back = g.judge(Twist(-0.1, 0.0, 0.0))
+    assert back == Twist(-0.1, 0.0, 0.0)  # away from them, at most 0.15 m/s: untouched
+
+
+def test_two_people_either_side_ahead_stop_the_robot_between_them():
+    g = guard(at(0.5, 0.5), at(0.5, -0.5))
+    out = g.judge(Twist(0.15, 0.0, 0.0))
+    assert speed(out) == pytest.approx(0.0)
+    assert g.judge(Twist(-0.15, 0.0, 0.0)) == Twist(-0.15, 0.0, 0.0)
+
+
+def test_people_are_in_odom_and_towards_is_judged_in_the_base_frame():
+    # the robot at (2, 1) facing +y: a person at odom (2, 1.8) is straight ahead of it
+    g = guard(at(2.0, 1.8), pose=Pose2D(2.0, 1.0, math.pi / 2))
+    assert speed(g.judge(Twist(0.1, 0.0, 0.0))) == pytest.approx(0.0)
+    assert g.judge(Twist(0.0, 0.1, 0.0)) == Twist(0.0, 0.1, 0.0)  # body +y is odom -x: across
+
+
+def test_unsure_tracks_do_not_count():
+    g = guard(at(0.8, 0.0, confidence=0.3))
+    assert g.judge(Twist(0.3, 0.0, 0.0)) == Twist(0.3, 0.0, 0.0)
+
+
+class Recorder:
+    """The collision monitor's place: records what it was handed and stops everything."""
+
+    def __init__(self):
+        self.seen: list[Twist] = []
+
+    def filter(self, twist: Twist, now: float) -> Twist:
+        self.seen.append(twist)
+        return Twist(0.0, 0.0, twist.wz)
+
+
+@pytest.mark.parametrize("source", ["auto", "manual", "joy"])
+def test_on_the_base_every_source_is_guarded_below_the_estop_and_above_the_monitor(source):
+    rig = make_base_rig(HwConfig())
+    person = [at(1.0, 0.0)]  # 0.58 m ahead: slow
+    below = Recorder()
+    rig.base.guard = PeopleGuard(PeopleGuardConfig(), lambda: rig.base.odometry.pose, R, lambda: person, below)
+    rig.mux.publish(source, Twist(0.3, 0.0, 0.0), 0.0)
+    rig.base.tick(0.0)
+    assert speed(below.seen[-1]) == pytest.approx(0.15)  # the monitor is handed the guarded twist
+    assert rig.base.command == Twist(0.0, 0.0, 0.0)  # and has the last word
+    person.clear()
+    rig.button.level = rig.config.estop.engaged_level
+    rig.base.tick(0.1)
+    assert rig.base.source == "estop" and len(below.seen) == 1  # the e-stop is above every guard
+
+
+def test_the_cap_holds_over_a_whole_approach_on_the_simulated_wheels():
+    """Driving at 0.4 m/s towards someone 2 m ahead, the wheels never carry the robot faster than
+    0.15 m/s once inside 1 m, and it never closes inside 0.5 m (its own odometry judges)."""
+    rig = make_base_rig(HwConfig())
+    person = at(2.0 + R + 0.2, 0.0)
+    rig.base.guard = PeopleGuard(PeopleGuardConfig(), lambda: rig.base.odometry.pose, R, lambda: [person])
+    speeds, gaps = [], []
+    for k in range(120):
+        now = 0.1 * k
+        rig.mux.publish("auto", Twist(0.4, 0.0, 0.0), now)
+        rig.scheduler.run_until(now)
+        p = rig.base.odometry.pose
+        gaps.append(2.0 + R + 0.2 - p.x - 0.2 - R)
+        speeds.append(rig.base.command.vx)
+    gaps, speeds = np.array(gaps), np.array(speeds)
+    assert speeds[gaps > 1.05].max() == pytest.approx(0.4)
+    assert speeds[gaps < 0.95].max() <= 0.15 + 1e-9
+    assert gaps.min() >= 0.45  # the twist towards them is zero from 0.5 m; a beat's coasting at most
