@@ -85,6 +85,12 @@ class EStopBridge:
             self.latch.save(engaged)
         self.soft = engaged
 
+    def restart(self) -> None:
+        """As a runtime started again after a crash: the soft stop as held in memory is gone and
+        is read again from the latch (memory only: released, as a runtime without one would be)."""
+        self.soft = self.latch.open() if self.latch is not None else False
+        self.held_since_start = self.latch.reason if self.latch is not None else ""
+
     def close(self) -> None:
         """A clean exit: the latch keeps the soft stop, and the next start is not taken for a crash."""
         if self.latch is not None:

@@ -9,7 +9,8 @@ Every action goes through the path the real thing takes: the button through the 
 the e-stop bridge, the soft stop and ``resume`` / ``pause`` through the operator's commands,
 teleop through the twist_mux source it names (published at ``TELEOP_RATE`` for ``duration``; the
 mux times it out after), faults through ``sim.faults``, ``clear_map`` through the runtime's map
-reset. Nothing here touches the mission tree.
+reset, ``history_down`` through the history store's outage hook, ``runtime_crash`` through the
+patrol job's restart (``PatrolRun.crash``). Nothing here touches the mission tree.
 
 An event with ``when_moving: V`` is instead a task at the control rate from the first control
 beat at or after ``at`` (the sim patrol starts on a beat): it fires on the first beat at which
@@ -22,6 +23,7 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass, field
+from typing import Callable
 
 from hw.interfaces import Twist
 from mission.patrol import events_file as ev
@@ -51,6 +53,10 @@ class EventPlayer:
     fired: dict[int, float] = field(default_factory=dict)
     """Runtime time each event was applied at, by its index in the events list (a judge's
     record: an event whose ``when_moving`` never came true is absent)."""
+    crash: Callable[[float], None] = lambda now: None
+    """What ``runtime_crash`` does: the patrol job's (the runtime dies and starts again)."""
+    history_down: Callable[[float], None] = lambda until: None
+    """What ``history_down`` does: the history's database unreachable until then (runtime time)."""
 
     def schedule(self, events: list, t0: float) -> None:
         sched = self.robot.scheduler
@@ -110,6 +116,10 @@ class EventPlayer:
                 f.move_pot(e.pot, e.dx, e.dy, e.dyaw)
             case ev.WalkerEvent():
                 f.walker(e.walker, e.moving)
+            case ev.RuntimeCrash():
+                self.crash(now)
+            case ev.HistoryDown():
+                self.history_down(now + e.duration)
 
     def _teleop(self, i: int, e: ev.Teleop, now: float) -> None:
         name, twist, mux = f"event.{i}.teleop.publish", Twist(e.vx, e.vy, e.wz), self.robot.mux

@@ -19,11 +19,13 @@ from py_trees.common import Status
 
 from hw.atomic_file import write_atomic, write_png
 from hw.odometry import Pose2D
+from hw.people import nobody
 from mission.history.recorder import PatrolRecorder, start_recording
 from mission.history.store import History
 from mission.patrol.climate import ClimateSource, NoClimate
-from mission.patrol.encounters import RATE as ENCOUNTER_RATE, Encounters
+from mission.patrol.monitor_holds import RATE as HOLDS_RATE, MonitorHolds
 from mission.patrol.mission_file import Mission
+from mission.patrol.person_encounters import PersonEncounters
 from mission.patrol.report import PatrolReport
 from mission.patrol.run_picture import PotMark, contact_sheet, draw_run
 from mission.patrol.tree import PatrolTree
@@ -41,6 +43,10 @@ from perception.tag_reader import TagReader
 if TYPE_CHECKING:  # the sim path's parts, named only in annotations
     from mission.jobs.events import EventPlayer
     from mission.jobs.navigate import NavigateRun
+
+RESTART_WATCH_S = 3.0
+"""Seconds a sim run goes on after a ``runtime_crash`` with the restarted, idle runtime, so the
+judge sees what it came back as (engaged or not, the base still)."""
 
 TRACE_RATE = 10.0
 """The driven path (the robot's map pose) is sampled at the lidar's 10 Hz for the picture."""
@@ -69,10 +75,26 @@ class PatrolRun:
     """The events file being played into the sim run, if any."""
     history: PatrolRecorder | None = None
     """The patrol being written into the history (``mission.history``); None when it is off."""
+    crashed: str = ""
+    """Why the run ended in a runtime crash ('' when it did not)."""
+    _crash_at: float | None = None
 
     @property
     def done(self) -> bool:
+        if self._crash_at is not None:
+            return self.robot.scheduler.clock.now() >= self._crash_at + RESTART_WATCH_S
         return self.tree.root.status in (Status.SUCCESS, Status.FAILURE)
+
+    def crash(self, now: float) -> None:
+        """The runtime dies mid-patrol and its service starts it again (sim, ``runtime_crash``):
+        the patrol is gone with its memory (its goal cancelled, the tree never ticked again), the
+        robot's services come back from their state directory, idle."""
+        self.abort()
+        self.robot.restart(now)
+        e = self.robot.estop
+        self.crashed = (f"the runtime crashed at t={now - self.report.t0:.1f} s and was restarted: soft e-stop "
+                        + (f"ENGAGED ({e.held_since_start})" if e.soft else "released"))
+        self._crash_at = now
 
     def led_state(self) -> str:
         """What the status strip shows of this patrol (``hw.leds.pick_state``'s mission)."""
@@ -82,6 +104,8 @@ class PatrolRun:
         return "paused" if holds.paused or holds.latched else "running"
 
     def outcome(self) -> str:
+        if self.crashed:
+            return "aborted"
         if self.tree.battery_low:
             return "battery_low"
         if self.tree.root.status is not Status.SUCCESS or "home" in self.tree.notes:
@@ -105,7 +129,8 @@ class PatrolRun:
     def finish(self, outcome: str, reason: str = "") -> dict:
         """The end of a run: SLAM's map, the picture, and the report's final write."""
         self.robot.scheduler.cancel("patrol.trace")
-        self.robot.scheduler.cancel("patrol.encounters")
+        self.robot.scheduler.cancel("patrol.holds")
+        self.robot.scheduler.cancel("patrol.people")
         occupancy = final_map(self.nav, self.robot.scheduler)
         directory = self.report.directory
         if occupancy is not None:
@@ -118,8 +143,8 @@ class PatrolRun:
         extra = {"notes": self.tree.notes} if self.tree.notes else {}
         if self.events is not None and self.events.applied:
             extra["events"] = self.events.applied
-        if reason or self.tree.root.status is Status.FAILURE:
-            extra["reason"] = reason or self.tree.failure()
+        if reason or self.crashed or self.tree.root.status is Status.FAILURE:
+            extra["reason"] = reason or self.crashed or self.tree.failure()
         return self.report.finish(outcome, **extra)
 
     def picture(self, occupancy: OccupancyMap | None) -> np.ndarray:
@@ -160,9 +185,13 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
     recorder = start_recording(history, mission, config.link.robot, world, Path(report_path))
     if recorder is not None:
         report.observers.append(recorder)
-    encounters = Encounters(lambda: robot.monitor.verdict, nav.map_pose, report.t0)
-    report.observers.append(encounters)
-    robot.scheduler.every("patrol.encounters", ENCOUNTER_RATE, encounters.tick)
+    holds = MonitorHolds(lambda: robot.monitor.verdict, nav.map_pose, report.t0)
+    report.observers.append(holds)
+    robot.scheduler.every("patrol.holds", HOLDS_RATE, holds.tick)
+    people = PersonEncounters(nobody, lambda: robot.base.odometry.pose, lambda: robot.monitor.verdict, report.t0,
+                              config.nav.costmap.robot_radius)
+    report.observers.append(people)  # the tracker's engineer passes its PeopleSource here instead of nobody
+    robot.scheduler.every("patrol.people", HOLDS_RATE, people.tick)
     run = PatrolRun(robot, nav, tree, report, close, history=recorder)
     robot.mission_state = run.led_state
 

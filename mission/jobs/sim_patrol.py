@@ -46,7 +46,9 @@ def start_sim_patrol(world: World, mission: Mission, config: LupinConfig, report
 
     def play(run: PatrolRun) -> None:
         run.sim = sim_run
-        run.events = EventPlayer(run.robot, run.nav, run.tree.holds, sim_run.sim.faults)
+        run.events = EventPlayer(run.robot, run.nav, run.tree.holds, sim_run.sim.faults, crash=run.crash)
+        if history is not None:
+            run.events.history_down = lambda until: history.outage_until(until, run.robot.scheduler.clock.now)
         run.events.schedule(list(events), run.report.t0)
 
     return start_patrol(sim_run.robot, sim_run.nav, mission, config, sim_perception(config), report_path, wall_now,

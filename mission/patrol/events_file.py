@@ -131,8 +131,21 @@ class WalkerEvent(_Event):
     """False: the walker stops where it is (someone stops to talk); true: walks on."""
 
 
+class RuntimeCrash(_Event):
+    do: Literal["runtime_crash"]
+    """The runtime process dies and its service restarts it: what it held in memory is gone (the
+    patrol, the goal, every twist on the mux, the soft stop as it stood) and it starts again
+    from what it persisted in its state directory."""
+
+
+class HistoryDown(_Event):
+    do: Literal["history_down"]
+    duration: float = Field(gt=0)
+    """Seconds the history's database cannot be reached (a farm server down, the WiFi gone)."""
+
+
 EVENT_TYPES = (EStop, SoftEStop, Resume, Pause, LidarDropout, ServoStall, Battery, ClearMap, Teleop, PlaceBox,
-               ControllerRace, CameraDropout, MovePot, WalkerEvent)
+               ControllerRace, CameraDropout, MovePot, WalkerEvent, RuntimeCrash, HistoryDown)
 ACTIONS = {t.model_fields["do"].annotation.__args__[0]: t for t in EVENT_TYPES}
 Event = Annotated[Union[EVENT_TYPES], Field(discriminator="do")]
 _EVENTS = TypeAdapter(list[Event])

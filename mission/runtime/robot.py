@@ -67,6 +67,14 @@ class Robot:
             close()
         self.closers.clear()
 
+    def restart(self, now: float) -> None:
+        """The runtime as its service starts it again after a crash (the ``runtime_crash``
+        event): what it held in memory is dropped (every twist on the mux, the wheel PID, the soft
+        stop) and what it persisted (the soft stop's latch) is read again."""
+        self.estop.restart()
+        self.mux.discard_until(now)
+        self.base.pid.reset()
+
     def _led_tick(self, now: float) -> None:
         c = self.base.command
         self.leds.show(pick_state(estop=self.estop.engaged(), battery_low=self.power.state.low,

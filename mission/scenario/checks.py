@@ -127,15 +127,25 @@ def _pots(x: PotsExpect, doc: dict) -> list[Check]:
 def people(x: PeopleExpect, log: PeopleLog, t0: float) -> list[Check]:
     out = []
     if x.min_clearance is not None:
-        worst = min(log.min_clearance, key=log.min_clearance.get)
-        t, rx, ry = log.close_at.get(worst, (t0, math.nan, math.nan))
-        out.append(Check("people.min_clearance", log.clearance >= x.min_clearance, f">= {x.min_clearance:g} m to every walker",
-                         f"{log.clearance:.3f} m (walker {worst}, at {t - t0:.1f} s, robot at ({rx:.2f}, {ry:.2f}))"))
+        if math.isinf(log.clearance):
+            out.append(Check("people.min_clearance", True, f">= {x.min_clearance:g} m to every walker while moving",
+                             "no walker measured while the robot moved"))
+        else:
+            worst = min(log.min_clearance, key=log.min_clearance.get)
+            t, rx, ry = log.close_at[worst]
+            out.append(Check("people.min_clearance", log.clearance >= x.min_clearance,
+                             f">= {x.min_clearance:g} m to every walker while moving",
+                             f"{log.clearance:.3f} m (walker {worst}, at {t - t0:.1f} s, robot at ({rx:.2f}, {ry:.2f}))"))
     if x.contacts is not None:
-        onsets = log.contacts.onsets
+        onsets = log.moving_contacts
         shown = ", ".join(f"{name} at {t - t0:.1f} s" for t, name in onsets[:5]) or "none"
-        out.append(Check("people.contacts", len(onsets) <= x.contacts, f"<= {x.contacts} contact(s)",
+        out.append(Check("people.contacts", len(onsets) <= x.contacts, f"<= {x.contacts} contact(s) while moving",
                          f"{len(onsets)} ({shown})"))
+    if x.encounters is not None:
+        met = log.encounters
+        shown = ", ".join(f"{e['walker']} at {e['t'] - t0:.1f} s ({e['nearest_m']:.2f} m)" for e in met[:6]) or "none"
+        out.append(Check("people.encounters", len(met) >= x.encounters,
+                         f">= {x.encounters} time(s) a walker came within 1.0 m", f"{len(met)} ({shown})"))
     return out
 
 
@@ -230,4 +240,14 @@ def _teleop(x, f: dict, at: float) -> tuple[bool, str, str]:
     return owned and follows, expected, f"{f['ticks_owned']} of {f['ticks']} ticks followed the stick{lost}; true twist ({true})"
 
 
-_JUDGES = {"pause": _pause, "lidar_dropout": _dropout, "clear_map": _clear_map, "teleop": _teleop}
+def _restart(x, f: dict, at: float) -> tuple[bool, str, str]:
+    expected = (f"the runtime restarted after the crash at {at:.1f} s with its soft stop "
+                f"{'engaged on every control tick' if x.engaged else 'released'}, the base moving "
+                f"< {x.max_motion * 1000:g} mm from {x.still_within:g} s after")
+    held = f["ticks_estop"] == f["ticks"] > 0 if x.engaged else f["ticks_estop"] == 0
+    return (held and f["moved_m"] < x.max_motion, expected,
+            f"e-stop on {f['ticks_estop']} of {f['ticks']} ticks after the restart, moved {f['moved_m'] * 1000:.1f} mm")
+
+
+_JUDGES = {"pause": _pause, "lidar_dropout": _dropout, "clear_map": _clear_map, "teleop": _teleop,
+           "runtime_crash": _restart}

@@ -13,6 +13,8 @@ the twist the base controller was handed, SLAM's map), from the instant the even
   instant on (how long after the scans stopped), and autonomy drives again after they return;
 * ``clear_map``: SLAM's map is erased, a fresh worker is spawned, and the map's known cells
   come back to a fraction of what it knew before (and when);
+* ``runtime_crash``: on every control tick after the restart the base is held by the e-stop
+  (the latch came back engaged) and the true base stands still;
 * ``teleop``: through the hold, every control tick the base follows the event's source and
   twist, and the true base twist (mean over the hold after ``settle``) is the stick's.
 """
@@ -25,9 +27,11 @@ import numpy as np
 from mission.patrol import events_file as ev
 from mission.scenario.judge import max_displacement, path_length
 from mission.scenario.motion_log import MotionLog
-from mission.scenario.scenario_file import ClearMapEffect, DropoutEffect, EffectsExpect, PauseEffect, TeleopEffect
+from mission.scenario.scenario_file import (ClearMapEffect, DropoutEffect, EffectsExpect, PauseEffect, RestartEffect,
+                                           TeleopEffect)
 
-KINDS = {"pause": ev.Pause, "lidar_dropout": ev.LidarDropout, "clear_map": ev.ClearMap, "teleop": ev.Teleop}
+KINDS = {"pause": ev.Pause, "lidar_dropout": ev.LidarDropout, "clear_map": ev.ClearMap, "teleop": ev.Teleop,
+         "runtime_crash": ev.RuntimeCrash}
 """The event kinds whose effect is judged, by their ``effects:`` key."""
 
 
@@ -72,7 +76,19 @@ def event_effects(log: MotionLog, events: list, fired: dict[int, float], end: fl
                 effect.figures = clear_map(log, t, expect.clear_map or ClearMapEffect(), end)
             case ev.Teleop():
                 effect.figures = teleop(log, t, e, expect.teleop or TeleopEffect())
+            case ev.RuntimeCrash():
+                effect.figures = runtime_crash(log, t, end, expect.runtime_crash or RestartEffect())
     return out
+
+
+def runtime_crash(log: MotionLog, at: float, end: float, x: RestartEffect) -> dict:
+    """What the runtime came back as: the control ticks after the crash on which the e-stop held
+    the base, and how far the true base moved once it had ``still_within`` to stop."""
+    after = log.after(at, end)
+    ticks = range(after.start + 1, after.stop)  # the crash's own tick ran before the restart
+    still = log.since(at + x.still_within, end)
+    return {"ticks": len(ticks), "ticks_estop": sum(log.source[k] == "estop" for k in ticks),
+            "moved_m": round(max_displacement(log.xy[still]), 4)}
 
 
 def pause(log: MotionLog, at: float, until: float, x: PauseEffect) -> dict:

@@ -103,12 +103,27 @@ class TeleopEffect(StrictEntry):
     and rad/s)."""
 
 
+class RestartEffect(StrictEntry):
+    engaged: bool = True
+    """The restarted runtime's soft stop: engaged (it was engaged before the crash, or the crash
+    itself counts as an unclean exit) on every control tick after the restart."""
+    still_within: float = Field(1.0, gt=0)
+    """s after the crash from which the base must stand still (the wheels coast to a stop)."""
+    max_motion: float = Field(0.01, gt=0)
+    """True displacement allowed from then to the run's end, m."""
+
+
 class PeopleExpect(StrictEntry):
     min_clearance: Optional[float] = Field(None, ge=0)
-    """Least distance between the robot's body and any walker's over the whole run, m (ground
-    truth; the footprint circle and half the walker's width)."""
+    """Least distance between the robot's body (its footprint and the arm as it stands) and any
+    walker's body over every moment the robot moves (base >= 0.05 m/s or turning >= 0.1 rad/s),
+    m, ground truth (``mission.jobs.people_log``): a walker that walks into a robot standing
+    still is not the robot's doing."""
     contacts: Optional[int] = Field(None, ge=0)
-    """Most robot-walker contacts allowed (usually 0)."""
+    """Most robot-walker contacts allowed while the robot moves (usually 0)."""
+    encounters: Optional[int] = Field(None, ge=0)
+    """At least this many times a walker came within 1.0 m of the robot, so a scenario whose
+    people never meet the robot fails instead of passing on nothing."""
 
 
 class EffectsExpect(StrictEntry):
@@ -118,6 +133,7 @@ class EffectsExpect(StrictEntry):
     lidar_dropout: Optional[DropoutEffect] = None
     clear_map: Optional[ClearMapEffect] = None
     teleop: Optional[TeleopEffect] = None
+    runtime_crash: Optional[RestartEffect] = None
 
 
 class Expect(StrictEntry):

@@ -24,6 +24,8 @@ SPEC_EXAMPLE = """
 - {at: 0.0, do: controller_race, controllers: [mirte_base_controller], state: unconfigured}
 - {at: 5.0, do: pause}
 - {at: 40.0, do: move_pot, pot: P03, dx: 0.15, dy: 0.0, dyaw: 0.2}
+- {at: 0.0, do: history_down, duration: 120.0}
+- {at: 20.0, do: runtime_crash}
 """
 
 
@@ -31,7 +33,8 @@ def test_the_spec_example_reads_sorted_by_time(tmp_path):
     f = tmp_path / "events.yaml"
     f.write_text(SPEC_EXAMPLE)
     events = load_events(f, LupinConfig())
-    assert [e.do for e in events][:3] == ["controller_race", "pause", "estop"]
+    assert [e.do for e in events][:4] == ["controller_race", "history_down", "pause", "runtime_crash"]
+    assert next(e for e in events if e.do == "history_down").duration == 120.0
     assert [e.at for e in events] == sorted(e.at for e in events)
     stall = next(e for e in events if e.do == "servo_stall")
     assert stall.mode == "unload"  # the spec's "goes limp"
