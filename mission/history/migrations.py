@@ -78,9 +78,17 @@ def _v2(conn: Connection) -> None:
         index.create(conn)
 
 
+def _v3(conn: Connection) -> None:
+    """``patrols.uid``, unique: the id a robot gives its patrol, so rows sent again from its spool
+    are a no-op (spec/history.md)."""
+    conn.exec_driver_sql("ALTER TABLE patrols ADD COLUMN uid TEXT")
+    conn.exec_driver_sql("CREATE UNIQUE INDEX ux_patrols_uid ON patrols (uid)")
+
+
 MIGRATIONS: tuple[Migration, ...] = (
     Migration(1, "patrols and observations (spec/history.md)", _v1),
     Migration(2, "indexes for a year of patrols; patrols.pots, observations.facing and tag_expected", _v2),
+    Migration(3, "patrols.uid: the robot's id of a patrol, unique (a resend from the spool is a no-op)", _v3),
 )
 LATEST = MIGRATIONS[-1].version
 ADVISORY_LOCK = 0x1A9_0C0DE

@@ -3,7 +3,11 @@
 Each reads only what it needs through an index (``schema.INDEXES``): a year of 4 patrols a day
 over 2,000 pots is ~2.9 M observations, and none of these scans them. "The latest" is by
 ``started_at`` (then id); a mission's patrols are those recorded under its name, whichever
-robot ran them.
+robot ran them, in one greenhouse (spec/history.md): sim patrols of the same world, robot patrols
+(``world`` null) with robot patrols. A comparison (``changes``, ``pest_map``, a pot's timeline,
+the previous patrol) stays in the greenhouse of the latest patrol it starts from, unless asked
+for ``every`` greenhouse (``--all``): a test patrol in the sim is never compared with the robot's
+real patrols of a mission of the same name.
 """
 from __future__ import annotations
 
@@ -18,6 +22,23 @@ from mission.history.schema import observations as O
 from mission.history.schema import patrols as P
 
 NEWEST_FIRST = (P.c.started_at.desc(), P.c.id.desc())
+
+
+class _Every:
+    def __repr__(self) -> str:
+        return "EVERY"
+
+
+EVERY = _Every()
+"""No greenhouse chosen: patrols of every world and the robot's alike."""
+
+
+def in_greenhouse(world):
+    """The clause choosing one greenhouse's patrols: the sim world ``world``, or the robot's
+    (``world`` None); none for :data:`EVERY`."""
+    if world is EVERY:
+        return None
+    return P.c.world.is_(None) if world is None else P.c.world == world
 # Results of thousands of rows are taken with .all(): one fetchall in the driver, where iterating
 # a result fetches row by row (4,000 calls, a third of a query's time on a year's database).
 
@@ -58,9 +79,12 @@ def latest_mission(conn: Connection) -> str | None:
     return conn.execute(select(P.c.mission).order_by(*NEWEST_FIRST).limit(1)).scalar()
 
 
-def latest_patrols(conn: Connection, mission: str, n: int, before: Patrol | None = None) -> list[Patrol]:
-    """The last ``n`` patrols of ``mission``, newest first; with ``before``, those started before it."""
+def latest_patrols(conn: Connection, mission: str, n: int, before: Patrol | None = None, world=EVERY) -> list[Patrol]:
+    """The last ``n`` patrols of ``mission``, newest first; with ``before``, those started before
+    it; with ``world``, only that greenhouse's (:func:`in_greenhouse`)."""
     q = select(P).where(P.c.mission == mission)
+    if (clause := in_greenhouse(world)) is not None:
+        q = q.where(clause)
     if before is not None:
         q = q.where(P.c.id != before.id, P.c.started_at <= before.started_at)
     return [_patrol(r) for r in conn.execute(q.order_by(*NEWEST_FIRST).limit(n))]
@@ -72,10 +96,11 @@ def observations(conn: Connection, patrol_id: int) -> list[Observation]:
     return [Observation.from_tuple(r) for r in conn.execute(q).all()]
 
 
-def pot_timeline(conn: Connection, pot_id: str, mission: str | None = None) -> list[TimelineEntry]:
-    """Every observation of one pot, oldest first, with the patrol it was on: a year is ~1,500
-    rows, read in the ``(pot_id, patrol_id)`` index's order and built positionally."""
-    q = (select(*(O.c[n] for n in Observation.COLUMNS), P.c.mission, P.c.robot, P.c.started_at)
+def pot_timeline(conn: Connection, pot_id: str, mission: str | None = None, every: bool = False) -> list[TimelineEntry]:
+    """Every observation of one pot, oldest first, with the patrol it was on, in the greenhouse
+    of its latest (unless ``every``): a year is ~1,500 rows, read in the ``(pot_id, patrol_id)``
+    index's order and built positionally."""
+    q = (select(*(O.c[n] for n in Observation.COLUMNS), P.c.mission, P.c.robot, P.c.started_at, P.c.world)
          .join(P, P.c.id == O.c.patrol_id).where(O.c.pot_id == pot_id).order_by(O.c.patrol_id))
     if mission is not None:
         q = q.where(P.c.mission == mission)
@@ -83,22 +108,27 @@ def pot_timeline(conn: Connection, pot_id: str, mission: str | None = None) -> l
     out = []
     for r in conn.execute(q).all():
         o = Observation.from_tuple(r[:n])
-        out.append(TimelineEntry(o.patrol_id, r[n], r[n + 1], as_utc(r[n + 2]), o))
+        out.append(TimelineEntry(o.patrol_id, r[n], r[n + 1], as_utc(r[n + 2]), o, r[n + 3]))
     out.sort(key=lambda e: (e.started_at, e.patrol))  # in Python: the index gives them by id, unsorted by the database
+    if out and not every:
+        out = [e for e in out if e.world == out[-1].world]
     return out
 
 
-def changes(conn: Connection, mission: str | None = None) -> ChangeSet:
-    """What changed between the last two patrols of ``mission`` (default: the latest patrol's)."""
+def changes(conn: Connection, mission: str | None = None, every: bool = False) -> ChangeSet:
+    """What changed between the last patrol of ``mission`` (default: the latest patrol's) and
+    the one before it in the same greenhouse (any, with ``every``)."""
     mission = mission or latest_mission(conn)
     if mission is None:
         return ChangeSet(None, None)
-    last = latest_patrols(conn, mission, 2)
+    last = latest_patrols(conn, mission, 1)
     if not last:
         return ChangeSet(None, None)
-    if len(last) == 1:
-        return ChangeSet(last[0], None)
-    after, before = last
+    after = last[0]
+    earlier = latest_patrols(conn, mission, 1, before=after, world=EVERY if every else after.world)
+    if not earlier:
+        return ChangeSet(after, None)
+    before = earlier[0]
     return ChangeSet(after, before, tuple(changed(conn, before.id, after.id)))
 
 
@@ -120,15 +150,17 @@ def changed(conn: Connection, before: int, after: int) -> list[Change]:
     return out
 
 
-def pest_map(conn: Connection, last: int, mission: str | None = None) -> PestMap:
+def pest_map(conn: Connection, last: int, mission: str | None = None, every: bool = False) -> PestMap:
     """Each pot's pest pressure over the last ``last`` patrols of ``mission`` (default: the latest
-    patrol's): how many of them judged its flower, how many saw a pest, the current streak, and
-    where the pot stood when last seen. Counted by the database (one pass over the patrols'
-    rows, by the primary key); only the pest rows come back for the streaks."""
+    patrol's) in the latest one's greenhouse (any, with ``every``): how many of them judged its
+    flower, how many saw a pest, the current streak, and where the pot stood when last seen.
+    Counted by the database (one pass over the patrols' rows, by the primary key); only the pest
+    rows come back for the streaks."""
     mission = mission or latest_mission(conn)
     if mission is None:
         return PestMap(None, ())
-    chosen = latest_patrols(conn, mission, last)
+    latest = latest_patrols(conn, mission, 1)
+    chosen = latest_patrols(conn, mission, last, world=EVERY if every or not latest else latest[0].world)
     rank = {p.id: k for k, p in enumerate(chosen)}  # 0: the latest
     in_chosen = O.c.patrol_id.in_(list(rank))
     counts = {pot_id: (judged, int(pests or 0)) for pot_id, judged, pests in conn.execute(
@@ -158,10 +190,10 @@ def pest_map(conn: Connection, last: int, mission: str | None = None) -> PestMap
     return PestMap(mission, tuple(chosen), tuple(pots))
 
 
-def previous_observations(conn: Connection, mission: str) -> tuple[Patrol | None, dict[str, Observation]]:
-    """The latest patrol of ``mission`` so far and its rows by pot: what a starting patrol's
-    ``changes`` are against."""
-    last = latest_patrols(conn, mission, 1)
+def previous_observations(conn: Connection, mission: str, world=EVERY) -> tuple[Patrol | None, dict[str, Observation]]:
+    """The latest patrol of ``mission`` so far in the greenhouse ``world`` (the sim world's name;
+    None: the robot's) and its rows by pot: what a starting patrol's ``changes`` are against."""
+    last = latest_patrols(conn, mission, 1, world=world)
     if not last:
         return None, {}
     return last[0], {o.pot_id: o for o in observations(conn, last[0].id)}

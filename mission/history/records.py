@@ -126,9 +126,11 @@ class TimelineEntry:
     robot: str
     started_at: datetime
     observation: Observation
+    world: str | None = None
+    """The patrol's sim world; None on the robot (its greenhouse, spec/history.md)."""
 
     def as_json(self) -> dict:
-        return {"patrol": self.patrol, "mission": self.mission, "robot": self.robot,
+        return {"patrol": self.patrol, "mission": self.mission, "robot": self.robot, "world": self.world,
                 "started_at": iso(self.started_at), **self.observation.as_json()}
 
 

@@ -8,7 +8,10 @@ Beyond the spec's columns (schema version 2 on):
 - ``patrols.pots``: how many pots the mission lists, so a killed patrol shows how far it got;
 - ``observations.facing``: the yaw of the pot's inspection side (measured when the pot was found
   moved), so a mission can be written back from the history (``lupin mission rescout``);
-- ``observations.tag_expected``: the tag the mission expected there.
+- ``observations.tag_expected``: the tag the mission expected there;
+- ``patrols.uid`` (version 3): the patrol's own id, made by the robot when it starts (a UUID),
+  unique: a patrol's rows can wait in the robot's spool while the server is down and be sent
+  later, and a resend finds the patrol already there instead of writing it twice.
 
 Timestamps are UTC: timezone-aware on PostgreSQL (``timestamptz``), ISO text on SQLite
 (``2025-05-01 06:00:00.000000``, which sorts as time does). Ids are integers the database
@@ -41,6 +44,7 @@ patrols = Table(
     Column("distance_m", Float),
     Column("report_path", Text),
     Column("pots", Integer),
+    Column("uid", Text),
 )
 
 observations = Table(
@@ -74,3 +78,6 @@ INDEXES = (
 """What the grower's questions need at a year's size: one pot's timeline reads its rows by
 ``pot_id`` (not a scan of millions), "the last N patrols of a mission" reads the patrols index;
 a patrol's own rows come by the primary key (patrol_id, pot_id)."""
+
+UID_INDEX = Index("ux_patrols_uid", patrols.c.uid, unique=True)
+"""A patrol sent twice (a resend from the spool) is one patrol (schema version 3)."""

@@ -31,9 +31,11 @@ def obs(pot: str, seq: int = 1, status: str = "inspected", color: str | None = "
 
 
 def add_patrol(history: History, rows: list[Observation], mission: str = "m", robot: str = "mirte",
-               started: datetime = T0, outcome: str | None = "completed", report_path: str | None = None) -> int:
-    """One whole patrol with ``rows`` (their seq renumbered in order), ended unless ``outcome`` is None."""
-    pid = history.begin_patrol(PatrolStart(robot, mission, "w", report_path, len(rows)), started_at=started)
+               started: datetime = T0, outcome: str | None = "completed", report_path: str | None = None,
+               world: str | None = "w") -> int:
+    """One whole patrol with ``rows`` (their seq renumbered in order), ended unless ``outcome`` is
+    None; in the sim world ``world`` (None: on the robot)."""
+    pid = history.begin_patrol(PatrolStart(robot, mission, world, report_path, len(rows)), started_at=started)
     history.add_observations(pid, [replace(o, seq=k + 1, observed_at=started) for k, o in enumerate(rows)])
     if outcome is not None:
         history.end_patrol(pid, outcome, 100.0, 10.0, ended_at=started + timedelta(minutes=5))

@@ -58,7 +58,7 @@ def record(r, mission, pot: str, v: PotVisit) -> None:
 def test_each_pot_is_a_row_when_recorded_and_the_end_completes_the_patrol(tmp_path, sqlite_history):
     h = sqlite_history
     previous = add_patrol(h, [obs("P01", bug=False, blooms=1), obs("P02", blooms=1)], mission="unit",
-                          started=T0 - timedelta(hours=6))
+                          started=T0 - timedelta(hours=6), world="unit-world")
     r, mission, recorder = report_with_history(tmp_path, h)
     record(r, mission, "P01", visit("P01", 1, bug=True, blooms=2))
     assert recorder.drain()
@@ -80,7 +80,7 @@ def test_each_pot_is_a_row_when_recorded_and_the_end_completes_the_patrol(tmp_pa
                                                              ("P03", 3, "skipped")]
     patrol = h.patrol(recorder.patrol_id)
     assert patrol.outcome == "aborted" and patrol.ended_at is not None and patrol.distance_m == 3.5
-    assert doc["history"] == {"database": h.shown, "patrol": recorder.patrol_id, "write_errors": 0}
+    assert doc["history"] == {"database": h.shown, "patrol": recorder.patrol_id, "write_errors": 0, "spooled": 0}
     assert [c["kind"] for c in doc["changes"]] == ["pest_new", "blooms"]  # P02 did not change
 
 
