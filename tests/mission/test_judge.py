@@ -96,3 +96,28 @@ def test_a_press_that_never_fired_fails_and_is_named(tmp_path):
     assert not checks["estop"].passed and checks["estop"].actual == "no press fired"
     assert not checks["events fired"].passed
     assert checks["events fired"].actual == "not fired: events[0] (do estop, at 1 s, when_moving 5 m/s)"
+
+
+def _people_log(clearance, contacts, met):
+    """A people log as the judge reads it: per walker the least clearance while moving, contacts
+    begun while moving, and each time a walker came within 1.0 m."""
+    from types import SimpleNamespace
+    mins = {"W1": clearance, "W2": 2.0}
+    return SimpleNamespace(min_clearance=mins, close_at={"W1": (12.0, 3.0, 0.5), "W2": (20.0, 1.0, 0.5)},
+                           clearance=min(mins.values()), moving_contacts=contacts,
+                           encounters=[{"walker": "W1", "t": 10.0 + k, "nearest_m": 0.4} for k in range(met)])
+
+
+def test_the_people_judge_asks_for_clearance_no_contact_and_real_encounters():
+    from mission.scenario.checks import people
+    from mission.scenario.scenario_file import PeopleExpect
+    x = PeopleExpect(min_clearance=0.25, contacts=0, encounters=2)
+    good = {c.name: c for c in people(x, _people_log(0.31, [], 3), t0=2.0)}
+    assert all(c.passed for c in good.values()) and set(good) == {"people.min_clearance", "people.contacts", "people.encounters"}
+    assert good["people.min_clearance"].actual == "0.310 m (walker W1, at 10.0 s, robot at (3.00, 0.50))"
+    bad = {c.name: c for c in people(x, _people_log(0.12, [(15.0, "walker_W1_leg_l")], 1), t0=2.0)}
+    assert not any(c.passed for c in bad.values())
+    assert bad["people.contacts"].line() == ("  FAIL  people.contacts: expected <= 0 contact(s) while moving, "
+                                             "got 1 (walker_W1_leg_l at 13.0 s)")
+    assert bad["people.encounters"].line() == ("  FAIL  people.encounters: expected >= 2 time(s) a walker came within "
+                                               "1.0 m, got 1 (W1 at 8.0 s (0.40 m))")

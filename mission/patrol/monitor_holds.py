@@ -1,13 +1,14 @@
-"""Encounters: each time the collision monitor held the base back during a patrol, for the
-report's ``people`` list (where, how long the robot waited and how long it drove slowed, and
+"""Monitor holds: each time the collision monitor held the base back during a patrol, for the
+report's ``holds`` list (where, how long the robot waited and how long it drove slowed, and
 ``lost_s``: the time the withheld share of the commanded speed amounts to, the integral of
 ``1 - scale``).
 
-The monitor does not know a person from a cart or a dropped box, and neither does this: an
-encounter is any stretch of the monitor stopping or slowing the base, closed once it has let
-the base drive freely for ``GAP`` seconds (so a person walking past, stopping it twice in a
-second, is one encounter). In an empty greenhouse the zones are sized so that pots and walls
-do not trip it (hw.collision_monitor), so the list is empty there.
+The monitor does not know a person from a cart, a pot or a wall, and neither does this: a hold
+is any stretch of the monitor stopping or slowing the base, closed once it has let the base
+drive freely for ``GAP`` seconds (so a person walking past, stopping it twice in a second, is
+one hold). That is why these are not the report's ``people`` (spec/report.md: holds for pots and
+walls are reported apart; issue 28: counting every hold as a person flattered the figures);
+``mission.patrol.person_encounters`` counts the people the robot's tracker follows.
 """
 from __future__ import annotations
 
@@ -17,13 +18,13 @@ from hw.collision_monitor import NONE, STOP, Verdict
 from hw.odometry import Pose2D
 
 GAP = 1.0
-"""Seconds of free driving that end an encounter."""
+"""Seconds of free driving that end a hold."""
 
 RATE = 10.0
 """Checks per second: the base controller's beat, at which the monitor judges."""
 
 
-class Encounters:
+class MonitorHolds:
     def __init__(self, verdict: Callable[[], Verdict], pose: Callable[[], Pose2D], t0: float):
         self.verdict, self.pose, self.t0 = verdict, pose, t0
         self.done: list[dict] = []
@@ -65,8 +66,8 @@ class Encounters:
         pass
 
     def sections(self) -> dict:
-        """``people``: every encounter so far, the one in progress included."""
-        return {"people": self.done + ([self._shown(self._open)] if self._open is not None else [])}
+        """``holds``: every hold so far, the one in progress included."""
+        return {"holds": self.done + ([self._shown(self._open)] if self._open is not None else [])}
 
     def finished(self, doc: dict) -> None:
         pass
