@@ -5,11 +5,20 @@ worker owning ``map -> odom``. Its log is then judged three ways side by side on
 wheel odometry alone, plain KissICP (kiss-icp's own pipeline: constant-velocity prediction, no
 odometry) and ours (the worker's online estimate for each scan, as navigation used it). The map
 is judged against the world file rasterised at the map's resolution.
+
+``slam.wedge`` is a patrol of its own: the worker made to wedge for real mid-patrol (issue 29),
+judged on what the respawn cost (runtime seconds to the new worker's first reply), whether every
+pot still came out right, and the map's known cells before the wedge and after the respawn.
 """
 from __future__ import annotations
 
 import math
+import pickle
+import tempfile
 import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
 
 import numpy as np
 from kiss_icp.kiss_icp import KissICP
@@ -17,16 +26,21 @@ from kiss_icp.kiss_icp import KissICP
 from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
 from lupin.bench import Sample, benchmark
+from lupin.bench.patrol import correct_pots
 from mission.jobs.map_quality import map_quality
+from mission.jobs.sim_patrol import start_sim_patrol
 from mission.jobs.slam_drive import drifted, survey
+from mission.patrol.mission_file import Mission, mission_from_world
 from mission.runtime.config import LupinConfig, with_seed
 from nav.frames import from_matrix
+from nav.occupancy import OccupancyMap
+from nav.slam.checkpoint import Checkpoint
 from nav.slam.lidar_odometry import kiss_config
 from nav.slam.mapper import Mapper
 from nav.slam.scan_points import scan_points
 from nav.slam.supervisor import SlamSupervisor
 from sim.generate import generate_world
-from sim.world import load_default_world
+from sim.world import World, load_default_world
 
 _CACHE: dict = {}
 
@@ -92,20 +106,34 @@ def map_figures(config: LupinConfig) -> Sample:
 
 @benchmark("slam.update")
 def update(config: LupinConfig) -> Sample:
-    """Per-scan update time of the mapper (replaying the survey's scans in this process), and
-    the worker round trip's overhead (round trip minus the worker's own time) per scan."""
+    """Per-scan update time of the mapper (replaying the survey's scans in this process), the
+    worker round trip's overhead (round trip minus the worker's own time) per scan, and what the
+    checkpoint costs per scan: the worker's delta plus the supervisor folding it in (ms), and
+    the delta's pickled bytes on the pipe (``nav.slam.checkpoint``)."""
     s = _survey(config)
     log = s["log"]
     mapper = Mapper(config.nav.mapping, Pose2D(*config.nav.navigator.lidar_mount))
-    times = []
+    checkpoint = Checkpoint()
+    times, keeping, sizes = [], [], []
     for r, o in zip(log["ranges"], log["odom"]):
         t0 = time.perf_counter()
         mapper.process(s["angles"], r, Pose2D(*o))
-        times.append((time.perf_counter() - t0) * 1000.0)
+        t1 = time.perf_counter()
+        delta = mapper.delta()
+        checkpoint.apply(delta)
+        keeping.append((time.perf_counter() - t1) * 1000.0)
+        times.append((t1 - t0) * 1000.0)
+        sizes.append(len(pickle.dumps(delta, protocol=pickle.HIGHEST_PROTOCOL)))
     overhead = _round_trip_overhead(config, s["angles"], log)
     return Sample(times, {"round_trip_overhead_ms": round(float(np.median(overhead)), 3),
                           "round_trip_overhead_p95_ms": round(float(np.percentile(overhead, 95)), 3),
-                          "loop_closures": mapper.loop_closures})
+                          "loop_closures": mapper.loop_closures,
+                          "checkpoint_ms": round(float(np.median(keeping)), 4),
+                          "checkpoint_p95_ms": round(float(np.percentile(keeping, 95)), 4),
+                          "checkpoint_max_ms": round(float(np.max(keeping)), 3),
+                          "checkpoint_bytes_per_scan": int(np.mean(sizes)),
+                          "checkpoint_bytes_p95": int(np.percentile(sizes, 95)),
+                          "checkpoint_mb": round(checkpoint.nbytes / 1e6, 3)})
 
 
 def _round_trip_overhead(config: LupinConfig, angles: np.ndarray, log: dict) -> list[float]:
@@ -182,3 +210,96 @@ def generated(config: LupinConfig) -> Sample:
             run.close()
     return Sample(times, {"worlds": len(times), "all_goals_reached": reached, "worst_ours_m": max(ate_m),
                           "worst_recall": round(min(recall), 4), "worst_precision": round(min(precision), 4)})
+
+
+def known_cells(m: OccupancyMap | None) -> set[tuple[int, int]]:
+    """A map's known cells on the world's lattice, so maps of different extent compare."""
+    if m is None:
+        return set()
+    iy, ix = np.nonzero(m.occupancy >= 0)
+    ox, oy = round(m.origin_x / m.resolution), round(m.origin_y / m.resolution)
+    return set(zip((ix + ox).tolist(), (iy + oy).tolist()))
+
+
+@dataclass
+class Stalled:
+    """A patrol whose SLAM worker was stalled mid-way, as judged."""
+
+    doc: dict
+    """The patrol's report."""
+    stalled_at: float
+    """Runtime seconds when the stall was injected."""
+    first_reply_at: float | None
+    """Runtime seconds when a new worker first replied (None: none was needed, or none came)."""
+    before: set
+    """Known cells of the map the runtime held when the stall was injected."""
+    after: set
+    """... of the first map a new worker handed back (empty when none was spawned)."""
+    end: set
+    """... of the map at the end of the patrol."""
+    deaths: int
+    spawned: int
+    restored: int
+    spared: int
+    restore_s: float
+    """Wall seconds the new worker spent rebuilding from the checkpoint."""
+    checkpoint_mb: float
+    """The checkpoint's size when the stall was injected."""
+
+
+def stalled_patrol(world: World, mission: Mission, config: LupinConfig, at: float,
+                   stall: Callable[[SlamSupervisor], None]) -> Stalled:
+    """Patrol ``mission``; at ``at`` runtime seconds call ``stall`` on the SLAM supervisor (it
+    makes the worker wedge, or starves it), then patrol on to the end, watching the respawn."""
+    with tempfile.TemporaryDirectory() as tmp:
+        run = start_sim_patrol(world, mission, config, Path(tmp) / "report.json", time.perf_counter)
+        try:
+            sup: SlamSupervisor = run.nav.localisation
+            clock = run.robot.scheduler.clock
+            while not run.done and clock.now() < at:
+                run.step()
+            stalled_at, before, size = clock.now(), known_cells(sup.occupancy), sup.checkpoint.nbytes / 1e6
+            spawned, first = sup.spawned, []
+
+            def respawned(reply) -> None:  # the new worker's first reply (it brings the map)
+                if sup.spawned > spawned and not first:
+                    first.append((clock.now(), known_cells(reply.occupancy), reply.restore_s))
+
+            sup.listeners.append(respawned)
+            stall(sup)
+            while not run.done:
+                run.step()
+            doc = run.finish(run.outcome())
+            first_reply_at, after, restore_s = first[0] if first else (None, set(), 0.0)
+            return Stalled(doc, stalled_at, first_reply_at, before, after, known_cells(sup.occupancy),
+                           sup.deaths, sup.spawned, sup.restored, sup.spared, restore_s, round(size, 3))
+        finally:
+            run.close()
+
+
+WEDGE_POTS = 4
+"""Pots of the default greenhouse the wedged patrol visits (a third of it: a smallest run)."""
+WEDGE_AT = 15.0
+"""Runtime seconds into the patrol the worker wedges: on the way between pots."""
+
+
+@benchmark("slam.wedge")
+def wedge(config: LupinConfig) -> Sample:
+    """A patrol of the default greenhouse's first pots with the SLAM worker wedged for real mid-way
+    (a busy loop: it spins until the supervisor kills it). Figures: runtime seconds from the
+    wedge to the new worker's first reply (goal: respawn_delay and an exchange, about 1.2 s), the
+    pots right (goal: all), the map's known cells before the wedge and after the respawn, and
+    what the restart read. The time is the patrol's wall time (the wedge's CPU seconds in it)."""
+    world = load_default_world()
+    base = mission_from_world(world)
+    mission = base.model_copy(update={"pots": base.pots[:WEDGE_POTS]})
+    t0 = time.perf_counter()
+    r = stalled_patrol(world, mission, config, WEDGE_AT, lambda sup: sup.stall("spin"))
+    wall = (time.perf_counter() - t0) * 1000.0
+    kept = len(r.before & r.after) / len(r.before) if r.before else 0.0
+    return Sample([wall], {
+        "outcome": r.doc["outcome"], "pots": WEDGE_POTS, "pots_right": correct_pots(world, r.doc), "wedged_at_s": round(r.stalled_at, 2),
+        "respawn_s": round(r.first_reply_at - r.stalled_at, 2) if r.first_reply_at is not None else None,
+        "deaths": r.deaths, "restored": r.restored, "known_cells_before": len(r.before),
+        "known_cells_after": len(r.after), "known_cells_end": len(r.end), "before_kept_share": round(kept, 4),
+        "restore_ms": round(r.restore_s * 1000.0, 1), "checkpoint_mb": r.checkpoint_mb})
