@@ -2,9 +2,11 @@
 
 leg_tracker classifies each segment and pairs legs within 0.8 m; we do the same with the one
 feature that separates the greenhouse's people from what is left once the map and the known
-pots have explained their returns: size. Segments whose centres lie within ``pair_distance``
-join one body (connected components, so a cart and the two legs behind it are one body, as
-``hw.people.Person`` asks); a body wider than ``max_extent`` is a wall or a row of things, not
+pots have explained their returns: size. Two leg-wide segments whose centres lie within
+``pair_distance`` are a pair of legs, and any two segments that nearly touch (``join_gap``) are
+one thing; connected components of those links are the bodies (so a cart and the two legs
+behind it are one body, as ``hw.people.Person`` asks, while a worker standing beside a parked
+cart stays a person of their own); a body wider than ``max_extent`` is a wall or a row of things, not
 a person; a body of two or more leg-wide segments is a pair of legs (most confident), one
 leg-wide segment a leg alone, anything else a compact unexplained body (a cart seen from the
 front, a crouching worker's outline, an unmapped crate), a person until shown otherwise.
@@ -34,11 +36,22 @@ class Bodies:
         return len(self.centre)
 
 
-def components(centres: np.ndarray, distance: float) -> np.ndarray:
-    """Labels of the connected components of points linked when within ``distance``
-    (vectorised label propagation: each pass gives every point its neighbours' smallest label)."""
-    n = len(centres)
-    near = np.hypot(*(centres[:, None, :] - centres[None, :, :]).transpose(2, 0, 1)) <= distance
+def links(segments: Segments, config: PeopleConfig) -> np.ndarray:
+    """(S, S) bool: two leg-shaped segments whose centres lie within ``pair_distance`` (a pair
+    of legs), or any two whose bounding boxes come within ``join_gap`` (a cart and its pusher)."""
+    c = segments.centre
+    legs = segments.width <= config.leg_width
+    paired = (np.hypot(*(c[:, None, :] - c[None, :, :]).transpose(2, 0, 1)) <= config.pair_distance) \
+        & legs[:, None] & legs[None, :]
+    apart = np.maximum(np.maximum(segments.lo[None, :, :] - segments.hi[:, None, :],
+                                  segments.lo[:, None, :] - segments.hi[None, :, :]), 0.0)
+    return paired | (np.hypot(*apart.transpose(2, 0, 1)) <= config.join_gap)
+
+
+def components(near: np.ndarray) -> np.ndarray:
+    """Labels of the connected components of the (symmetric) link matrix ``near`` (vectorised
+    label propagation: each pass gives every node its neighbours' smallest label)."""
+    n = len(near)
     labels = np.arange(n)
     while True:
         spread = np.where(near, labels[None, :], n).min(axis=1)
@@ -55,7 +68,7 @@ def group(points: np.ndarray, segments: Segments, robot_xy: np.ndarray, config: 
         points, segments = points[kept], segments.subset(enough)
     if not len(segments.count):
         return Bodies(np.zeros((0, 2)), np.zeros(0), np.zeros(0))
-    labels = components(segments.centre, config.pair_distance)
+    labels = components(links(segments, config))
     uniq, label = np.unique(labels, return_inverse=True)
     b = len(uniq)
     lo = np.full((b, 2), np.inf)

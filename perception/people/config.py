@@ -39,8 +39,13 @@ class PeopleConfig(Strict):
     """A segment no wider than this is leg-shaped, m: a leg is 0.14 m across (LEG_RADIUS 0.07)
     and the noise and the seen arc's ends add a few cm."""
     pair_distance: float = Field(0.8, gt=0)
-    """Segments whose centres lie this close make one body, m (leg_tracker pairs legs within
-    0.8 m: a walking stride; it also joins a cart to the legs behind it, 0.45 m apart)."""
+    """Two leg-shaped segments whose centres lie this close are one person's legs, m
+    (leg_tracker pairs legs within 0.8 m: a walking stride)."""
+    join_gap: float = Field(0.3, ge=0)
+    """Any two segments whose bounding boxes come this close are one body, m: a cart's rear is
+    ~0.08 m from its pusher's legs (``sim.walkers``: cart centre 0.45 m ahead, half depth 0.3,
+    legs of radius 0.07), while joining by centres within 0.8 m merged a worker standing by
+    the wall with the parked cart beside them (``perception.people`` tuning world 1)."""
     max_extent: float = Field(1.7, gt=0)
     """A body wider than this (bounding-box diagonal) is not a person, m: a wall, a row of
     unmapped things. The widest person is a 1.2 m cart 0.6 m deep with its pusher's legs behind
