@@ -9,6 +9,7 @@ an empty map.
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 import pytest
@@ -165,5 +166,29 @@ def test_the_map_reset_still_starts_an_empty_map():
             robot.tick(sup)
         assert sup.spawned == 2 and sup.restored == 0
         assert sup.last_reply.keyframes == 1  # a fresh graph: its first keyframe only
+    finally:
+        sup.close()
+
+
+def test_free_running_hands_the_checkpoint_over_without_waiting_and_goes_on_from_it():
+    """On the robot the tick never waits: the checkpoint goes to the new worker from a helper
+    thread while the ticks return at once, and no scan is sent before it has arrived."""
+    robot, sup = drive(lockstep=False, reply_timeout=0.5)
+
+    def tick_until(cond, ticks=2000):
+        for _ in range(ticks):  # real time passes (a real process answers), the robot drives
+            robot.tick(sup)
+            if cond():
+                return True
+            time.sleep(0.01)
+        return False
+
+    try:
+        assert tick_until(lambda: sup.last_reply is not None and sup.last_reply.keyframes >= 4)
+        keyframes = sup.last_reply.keyframes
+        sup.stall("block")
+        assert tick_until(lambda: sup.deaths == 1)
+        assert tick_until(lambda: sup.restored == 1 and sup.last_reply.restore_s > 0)
+        assert sup.spawned == 2 and sup.last_reply.keyframes > keyframes
     finally:
         sup.close()
