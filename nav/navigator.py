@@ -24,6 +24,16 @@ goal decides (ISO 13850 practice).
 Recovery when MPPI finds no valid control: clear the local costmap, back off slowly away from
 the nearest obstacle for ``backoff_time``, reset the controller and retry, at most
 ``max_recoveries`` times per goal.
+
+People (issue 28 item 2: "the robot waits at a distance or goes round by another aisle; it does
+not squeeze by"): the costmaps' person layer makes NavFn go round by another aisle where there
+is one. Where there is none, the goal *waits* instead of failing or squeezing: zero twist, its
+deadline and progress check stopped, replanning at 1 Hz, while a person stands in the only way
+(no plan on the global costmap, but one on it with the people's bodies taken out:
+``without_people``), on the goal itself (inside a person's keep-out), or so close that MPPI has
+no valid control (recovery would back off into whoever is behind). Those waits and the
+collision monitor's holds count together against ``blocked_wait``; past it the goal fails
+``blocked`` and the patrol comes back to the pot after the others (a bounded wait, then retry).
 """
 from __future__ import annotations
 
@@ -37,6 +47,7 @@ import numpy as np
 
 from hw.interfaces import ZERO_TWIST, LidarScan, Twist
 from hw.odometry import Pose2D
+from hw.people import Person, PeopleSource, nobody
 from nav.config import NavConfig
 from nav.costmap.grid import INSCRIBED, UNKNOWN, CostGrid
 from nav.frames import compose, distance, inverse, transform_path, transform_points
@@ -78,6 +89,8 @@ class Costmap(Protocol):
 
     def cover(self, x0: float, y0: float, x1: float, y1: float) -> None: ...
 
+    def without_people(self) -> CostGrid: ...
+
 
 class Planner(Protocol):
     def plan(self, grid: CostGrid, start_xy, goal_xy) -> np.ndarray: ...
@@ -115,6 +128,8 @@ class Sources:
     """True while the e-stop is engaged."""
     held: Callable[[], bool] = lambda: False
     """True while the collision monitor keeps the base from driving where it was told."""
+    people: PeopleSource = nobody
+    """The person tracker's people, ``odom`` frame (the costmaps' person layers read the same)."""
 
 
 class Navigator:
@@ -147,7 +162,11 @@ class Navigator:
         self.blind = False
         """True while a goal holds for want of a fresh scan (``scan_timeout``)."""
         self.held_for = 0.0
-        """Seconds the collision monitor has held the base during this goal (``blocked_wait``)."""
+        """Seconds this goal has waited, held by the collision monitor or for a person in the
+        way (``blocked_wait``)."""
+        self.waiting_for = ""
+        """Why the goal waits for people now ('' while it does not)."""
+        self._person_blocks = False
 
     # -- the goal API --------------------------------------------------------------------------
 
@@ -168,6 +187,7 @@ class Navigator:
         self._recoveries = self._replans = self._plan_failures = 0
         self._checkpoint = None
         self.held_for = 0.0
+        self.waiting_for, self._person_blocks = "", False
         self.path = None
         self.goal_checker.reset(xy_tolerance)
         self.controller.reset()
@@ -211,7 +231,7 @@ class Navigator:
             self._checkpoint = None
             self.io.publish(ZERO_TWIST, now)
             return
-        if self._waiting(now, dt):
+        if self._waiting(now, dt) or self._waiting_for_people(now, dt):
             return
         if now >= self._deadline:
             self._finish(State.FAILED, f"timeout after {now - self._start:.1f} s", now)
@@ -256,17 +276,64 @@ class Navigator:
         failed ``blocked``."""
         if not self.io.held():
             return False
+        return self._hold(now, dt, "something in the way")
+
+    def _hold(self, now: float, dt: float, why: str) -> bool:
+        """Count ``dt`` of waiting against ``blocked_wait`` with the goal's clocks stopped; True
+        when the wait ran out and the goal failed ``blocked``."""
         wait = self.config.navigator.blocked_wait
         if self.held_for == 0.0:
-            log.info("something in the way: waiting up to %.0f s", wait)
+            log.info("%s: waiting up to %.0f s", why, wait)
         self.held_for += dt
         if self.held_for > wait:
-            self._finish(State.FAILED, f"blocked: something stood in the way for {wait:g} s", now)
+            self._finish(State.FAILED, f"blocked: {why} for {wait:g} s", now)
             return True
         self._deadline += dt
         if self._checkpoint is not None:
             self._checkpoint = (self._checkpoint[0], self._checkpoint[1] + dt)
         return False
+
+    def _waiting_for_people(self, now: float, dt: float) -> bool:
+        """Hold still while a person stands in the only way or on the goal (module docstring).
+        True while waiting (zero twist published) or when the wait ran out."""
+        why = ""
+        if self._person_blocks:
+            why = "a person in the only way"
+        elif self._goal_taken():
+            why = "a person at the goal"
+        if why != self.waiting_for:
+            if why:
+                log.info("waiting: %s", why)
+            self.waiting_for = why
+        if not why:
+            return False
+        self.io.publish(ZERO_TWIST, now)
+        self.smoother.reset()
+        self._hold(now, dt, why)
+        return True
+
+    def _people_in_map(self) -> list[tuple[float, float, float]]:
+        """(x, y, keep_out) of every person that counts, map frame."""
+        layer = self.config.costmap.global_costmap.people
+        people = [p for p in self.io.people() if p.confidence >= layer.min_confidence]
+        if not people:
+            return []
+        xy = transform_points(self.localisation.map_to_odom(), np.array([[p.x, p.y] for p in people]))
+        return [(x, y, self._keep_out(p)) for (x, y), p in zip(xy, people)]
+
+    def _keep_out(self, person: Person) -> float:
+        return person.radius + self.config.costmap.global_costmap.people.clearance + self.config.costmap.robot_radius
+
+    def _goal_taken(self) -> bool:
+        """Is the goal inside a person's keep-out (standing there would put the robot within
+        ``clearance`` of them)?"""
+        g = self.goal
+        return any(math.hypot(x - g.x, y - g.y) < r for x, y, r in self._people_in_map())
+
+    def _person_close(self) -> bool:
+        """Is the robot itself inside a person's keep-out (they came to it)?"""
+        pose = self.map_pose()
+        return any(math.hypot(x - pose.x, y - pose.y) < r for x, y, r in self._people_in_map())
 
     def _progressing(self, pose: Pose2D, now: float) -> bool:
         """Nav2's SimpleProgressChecker: moving ``progress_radius`` from the last checkpoint
@@ -293,6 +360,10 @@ class Navigator:
         try:
             self.path = self.planner.plan(self.global_costmap.grid, (pose.x, pose.y), (self.goal.x, self.goal.y))
         except PlanningError as exc:
+            self._person_blocks = self._only_people_block(pose)
+            if self._person_blocks:
+                self.io.publish(ZERO_TWIST, now)
+                return False  # a wait, not a failure (``_waiting_for_people``)
             self._plan_failures += 1
             log.info("planning failed (%d/%d): %s", self._plan_failures, self.config.navigator.max_plan_failures, exc)
             if self._plan_failures >= self.config.navigator.max_plan_failures:
@@ -301,8 +372,19 @@ class Navigator:
                 self.io.publish(ZERO_TWIST, now)  # nothing to follow yet: hold still
             return False
         self._plan_failures = 0
+        self._person_blocks = False
         self._replans += 1
         self._last_plan = now
+        return True
+
+    def _only_people_block(self, pose: Pose2D) -> bool:
+        """With people about, would there be a plan once they stepped aside?"""
+        if not self._people_in_map():
+            return False
+        try:
+            self.planner.plan(self.global_costmap.without_people(), (pose.x, pose.y), (self.goal.x, self.goal.y))
+        except PlanningError:
+            return False
         return True
 
     def _follow(self, pose: Pose2D, now: float, dt: float) -> None:
@@ -315,8 +397,10 @@ class Navigator:
             vx, vy, wz = self.controller.compute((odom.x, odom.y, odom.yaw), (tw.vx, tw.vy, tw.wz), path,
                                                  (goal.x, goal.y, goal.yaw), self.local_costmap.grid)
         except NoValidControl as exc:
-            if self.io.held():  # someone close: wait for them, never back off into whoever is behind
-                self.io.publish(ZERO_TWIST, now)
+            if self.io.held() or self._person_close():  # someone close: wait for them, never back off
+                self.io.publish(ZERO_TWIST, now)  # into whoever is behind
+                if not self.io.held():
+                    self._hold(now, dt, "a person close by")
                 return
             self._start_recovery(now, str(exc))
             return

@@ -1,0 +1,111 @@
+"""The navigator with people about (issue 28 item 2), on the real global costmap with its person
+layer and the real NavFn: a person in the only aisle or on the goal makes the goal wait (zero
+twist, clocks stopped, no 'no path' and no 'no progress') and it drives on once they step aside;
+past ``blocked_wait`` it fails ``blocked`` (the patrol comes back later), never 'unreachable'; a
+person who comes up to the robot makes it wait, not back off; with nobody about a wall still
+fails 'no path' as quickly as before."""
+from __future__ import annotations
+
+import numpy as np
+
+from hw.interfaces import ZERO_TWIST, LidarScan, Twist
+from hw.odometry import Pose2D
+from hw.people import Person
+from nav.config import NavConfig
+from nav.costmap.layered import global_costmap
+from nav.localisation import OdometryOnly
+from nav.navigator import Navigator, Sources, State
+from nav.planner import NavfnPlanner
+from tests.nav.test_navigator import FakeController, FakeCostmap
+
+RES = 0.05
+CFG = NavConfig()
+START, GOAL = Pose2D(0.7, 1.6, 0.0), Pose2D(5.3, 1.6, 0.0)
+IN_THE_AISLE = Person(7, 3.0, 0.72, 0.0, 0.0, 0.2, 0.9)
+
+
+def one_aisle(closed: bool = False) -> np.ndarray:
+    """6 x 3.2 m walled floor; a block x 1.5..4.5 from y 1.4 to the north wall leaves one aisle
+    (y 0.05..1.4), too narrow to pass a person in it at 0.3 m; ``closed``: a wall across it."""
+    w, h = int(6.0 / RES), int(3.2 / RES)
+    occ = np.zeros((h, w), dtype=np.int8)
+    occ[0, :] = occ[-1, :] = occ[:, 0] = occ[:, -1] = 100
+    occ[int(1.4 / RES):, int(1.5 / RES):int(4.5 / RES)] = 100
+    if closed:
+        occ[:, int(3.0 / RES):int(3.1 / RES)] = 100
+    return occ
+
+
+class Rig:
+    def __init__(self, people=(), closed=False, controller=None):
+        self.people = list(people)
+        self.published: list[tuple[float, Twist]] = []
+        self.t = 0.0
+        io = Sources(lambda: START, lambda: ZERO_TWIST, self.scan, lambda tw, now: self.published.append((now, tw)),
+                     lambda: False, lambda: False, lambda: self.people)
+        self.glob = global_costmap(CFG.costmap, lambda: self.people)
+        self.glob.set_static(one_aisle(closed), RES, 0.0, 0.0)
+        self.local = FakeCostmap()
+        self.nav = Navigator(CFG, io, OdometryOnly(), self.local, self.glob, NavfnPlanner(CFG.planner),
+                             controller or FakeController())
+
+    def scan(self):
+        return LidarScan(self.t, np.zeros(1, np.float32), np.full(1, np.inf, np.float32))
+
+    def run(self, until, t0=0.0):
+        t = t0
+        while t <= until and self.nav.active:
+            self.t = t
+            if round(t * 20) % 20 == 0:
+                self.nav.tick_planner(t)
+            self.nav.tick_control(t)
+            t = round(t + 0.05, 6)
+        return t
+
+
+def test_a_person_in_the_only_aisle_is_waited_for_then_the_robot_drives_on():
+    rig = Rig([IN_THE_AISLE])
+    rig.nav.navigate_to(GOAL, 0.0, timeout=8.0)
+    rig.run(12.0)  # past the timeout and the progress check's 10 s
+    assert rig.nav.active and rig.nav.waiting_for == "a person in the only way"
+    assert all(tw == ZERO_TWIST for _, tw in rig.published)
+    rig.people.clear()  # they step aside
+    rig.run(14.0, t0=12.05)
+    assert rig.nav.active and rig.nav.waiting_for == ""
+    assert rig.published[-1][1].vx > 0  # following the plan through the aisle now
+
+
+def test_a_person_who_stays_in_the_only_aisle_fails_the_goal_blocked_after_the_wait_not_no_path():
+    rig = Rig([IN_THE_AISLE])
+    rig.nav.navigate_to(GOAL, 0.0, timeout=60.0)
+    end = rig.run(60.0)
+    wait = CFG.navigator.blocked_wait
+    assert rig.nav.state is State.FAILED and rig.nav.reason.startswith("blocked: a person in the only way")
+    assert wait <= end <= wait + 0.2
+
+
+def test_a_wall_across_the_only_aisle_still_fails_no_path_at_once():
+    rig = Rig([Person(8, 1.0, 0.5, 0.0, 0.0, 0.2, 0.9)], closed=True)  # someone about, not in the way
+    rig.nav.navigate_to(GOAL, 0.0, timeout=60.0)
+    end = rig.run(60.0)
+    assert rig.nav.state is State.FAILED and rig.nav.reason.startswith("no path")
+    assert end < 5.0
+
+
+def test_a_person_on_the_goal_is_waited_for_at_a_distance():
+    rig = Rig([Person(9, GOAL.x + 0.3, GOAL.y, 0.0, 0.0, 0.2, 0.9)])
+    rig.nav.navigate_to(GOAL, 0.0, timeout=60.0)
+    rig.run(11.0)
+    assert rig.nav.active and rig.nav.waiting_for == "a person at the goal"
+    assert all(tw == ZERO_TWIST for _, tw in rig.published)
+
+
+def test_a_person_who_comes_up_to_the_robot_is_waited_for_not_backed_away_from():
+    rig = Rig([Person(10, START.x + 0.3, START.y - 0.5, 0.0, 0.0, 0.2, 0.9)], controller=FakeController(fail=True))
+    rig.nav.navigate_to(GOAL, 0.0, timeout=60.0)
+    rig.run(12.0)
+    assert rig.nav.active and rig.local.clears == 0 and rig.nav.state is State.FOLLOWING
+    assert all(tw == ZERO_TWIST for _, tw in rig.published)
+    rig.people.clear()
+    rig.run(20.0, t0=12.05)
+    assert rig.local.clears >= 1  # with nobody there, no valid control is a recovery again
