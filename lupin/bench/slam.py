@@ -298,7 +298,8 @@ def wedge(config: LupinConfig) -> Sample:
     wall = (time.perf_counter() - t0) * 1000.0
     kept = len(r.before & r.after) / len(r.before) if r.before else 0.0
     return Sample([wall], {
-        "outcome": r.doc["outcome"], "pots": WEDGE_POTS, "pots_right": correct_pots(world, r.doc), "wedged_at_s": round(r.stalled_at, 2),
+        "outcome": r.doc["outcome"], "pots": WEDGE_POTS, "pots_right": correct_pots(world, r.doc),
+        "wedged_at_s": round(r.stalled_at, 2),
         "respawn_s": round(r.first_reply_at - r.stalled_at, 2) if r.first_reply_at is not None else None,
         "deaths": r.deaths, "restored": r.restored, "known_cells_before": len(r.before),
         "known_cells_after": len(r.after), "known_cells_end": len(r.end), "before_kept_share": round(kept, 4),
