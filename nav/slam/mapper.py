@@ -15,6 +15,9 @@ correction from it to ``map``. ``map_to_odom`` is what the navigator needs: the 
 latest scan composed with the inverse of the wheel odometry pose it was taken at (REP-105).
 The map frame is the pose given at construction: the dock at start-up, and the last known map
 pose of the dock after a map reset, so goals given in ``map`` stay valid across a reset.
+
+``delta`` hands out what each scan added (keyframes, edges, kept scans; every pose after a
+solve) for the supervisor's checkpoint, and ``restored`` goes on from one (``checkpoint``).
 """
 from __future__ import annotations
 
