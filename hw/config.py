@@ -173,12 +173,53 @@ class ApproachConfig(Strict):
     """Step of the footprint carried along the twist, s (Nav2 simulation_time_step 0.1)."""
 
 
+class BlindRule(Strict):
+    """When a scan that arrives on time still cannot be trusted (hw.scan_trust): covered, sun-
+    blinded, everything under range_min, so most returns are invalid (inf). An honest scan in a
+    greenhouse can have many invalid returns too: an aisle looking out of an open end or down a
+    long house beyond the C1's 12 m. So the rule is a floor far below any honest scan plus a
+    *sudden* fall against the last trusted scans, never a fixed share of one arc."""
+
+    min_valid: float = Field(0.10, ge=0, lt=1)
+    """Least share of all beams with a valid return, else blind. Even standing in an open door
+    the rows and posts behind and beside the robot return well over this (the sim's honest
+    scans: no fewer than 0.75, the bench ``safety.blind`` shows them); a covered or sun-blinded
+    C1 returns next to nothing."""
+    front_arc: float = Field(math.radians(120.0), gt=0, le=2 * math.pi)
+    """Width of the arc ahead of the lidar judged on its own, rad: what a hand, a leaf or the
+    low sun covers first, and where the base drives most."""
+    collapse: float = Field(0.5, gt=0, lt=1)
+    """A scan whose valid share (all beams, or the front arc) falls below this fraction of its
+    median over the last trusted scans, *and* by at least ``min_drop``, is blind."""
+    min_drop: float = Field(0.3, gt=0, lt=1)
+    """... the fall, as a share of the beams (of all, or of the arc). Between two revolutions
+    (0.1 s) the base moves 5 cm and turns 6 deg at most, so an honest front arc gains or loses
+    about 5 % of its beams per edge; turning into an open end empties it over many revolutions
+    and a share already near zero (facing out) cannot fall by this much. A hand over the lidar
+    or sun glare takes far more at once."""
+    history: int = Field(3, ge=1)
+    """Trusted scans the median is taken over (0.3 s of the C1): one odd scan sets no baseline,
+    and a turn moves the view only ~20 % of the arc over it. Blind scans never enter it: a
+    lidar that stays covered stays blind."""
+
+
 class CollisionMonitorConfig(Strict):
     """Nav2's collision monitor between the twist_mux and the base controller (hw.collision_monitor).
     The zones' sizes are checked against the navigation footprint when the config is loaded."""
 
     enabled: bool = True
-    """Off only for a bench that must see the bare controller."""
+    """Off only where the bare controller must be seen (sim benches, bump tests): logged at
+    WARNING once in the sim; on the robot refused unless the command says
+    ``--no-collision-monitor`` (then logged at ERROR every minute and shown in the console)."""
+    chassis: tuple[float, float] = (0.165, 0.13)
+    """Half length and half width of the chassis rectangle, m: the body the monitor protects
+    and the self-filter (robot model: the ``chassis`` box 0.33 x 0.26 m, centred on base_link;
+    sim/models/mirte_master/README.md). The arm as it stands is added from its joint states."""
+    self_margin: float = Field(0.02, ge=0)
+    """Returns within this of the outline are the robot's own, m: twice the C1's range noise
+    (sim noise_std 0.01), so a leg 5 cm off the side (issue 28) is still seen."""
+    blind: BlindRule = BlindRule()
+    """When an on-time scan is blind all the same (its class says why these numbers)."""
     stop: StopZone = StopZone()
     """The stop zone (its class says why these sizes)."""
     slowdown: SlowdownZone = SlowdownZone()

@@ -39,6 +39,10 @@ def serve(
     history: Optional[str] = typer.Option(None, "--history", metavar="URL",
                                           help="Record every patrol in this history (spec/history.md): a SQLite file, "
                                                "postgresql://user@host/db, or none (default: history.url)."),
+    no_collision_monitor: bool = typer.Option(False, "--no-collision-monitor",
+                                              help="hw only: run without the collision monitor (logged at ERROR every "
+                                                   "minute, a red chip on every console); a config turning it off is "
+                                                   "refused on the robot without this."),
 ) -> None:
     """Run the robot runtime as a service that consoles attach to."""
     from lupin.cli.patrol import open_patrol_history
@@ -50,12 +54,15 @@ def serve(
     check_endpoint(listen or config.link.listen, "--listen")
     if backend is Backend.hw and (world is not None or fast):
         raise InputError("lupin serve --backend hw: --world and --fast are for the sim")
+    if backend is Backend.sim and no_collision_monitor:
+        raise InputError("lupin serve: --no-collision-monitor is for the robot (--backend hw); in the sim set "
+                         "hw.collision_monitor.enabled: false in the config")
     if backend is Backend.sim:
         world_file = world_or_default(world)  # checked before anything starts
     announce("serve", backend, world_file if backend is Backend.sim else None)
     store = open_patrol_history(config, history)
     if backend is Backend.hw:
-        service = start_hw_service(config, runs, time.perf_counter, store)
+        service = start_hw_service(config, runs, time.perf_counter, store, monitor_off=no_collision_monitor)
     else:
         from mission.jobs.sim_serve import start_sim_service  # the robot's service never loads the simulator
 

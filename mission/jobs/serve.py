@@ -208,10 +208,11 @@ def run_service(service: Service, stop: threading.Event, on_close: Callable[[], 
 
 
 def start_hw_service(config: LupinConfig, runs: Path, wall_now: Callable[[], float],
-                     history: History | None = None) -> Service:
+                     history: History | None = None, monitor_off: bool = False) -> Service:
     """The service on the robot's devices (a missing one is a clear error before anything
-    moves). There is no world to patrol by default: ``mission_start`` needs a mission."""
-    rt = start_hw_runtime(config)
+    moves). There is no world to patrol by default: ``mission_start`` needs a mission.
+    ``monitor_off``: ``--no-collision-monitor``."""
+    rt = start_hw_runtime(config, monitor_off)
 
     def no_default() -> Mission:
         raise CommandRefused("mission_start: the robot has no built-in mission; send one (spec/mission.md)")

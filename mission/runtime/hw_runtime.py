@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from hw.backend import HwBackend
 from mission.runtime.config import LupinConfig
 from mission.runtime.navigation import attach_navigation
-from mission.runtime.robot import Robot, build_robot
+from mission.runtime.robot import Robot, build_robot, check_monitor_switch
 from mission.runtime.state_dir import state_directory
 from nav.navigator import Navigator
 
@@ -27,11 +27,14 @@ class HwRuntime:
         self.backend.close()
 
 
-def start_hw_runtime(config: LupinConfig) -> HwRuntime:
+def start_hw_runtime(config: LupinConfig, monitor_off: bool = False) -> HwRuntime:
+    """``monitor_off``: the command's ``--no-collision-monitor`` (the only way to run the robot
+    without the collision monitor; a config that turns it off is refused before a device opens)."""
+    check_monitor_switch(config, True, monitor_off)
     state = state_directory(config.runtime, "hw")  # before any device opens: no latch, no start
     backend = HwBackend(config.hw)
     try:
-        robot = build_robot(config, backend.hal, state=state)
+        robot = build_robot(config, backend.hal, state=state, on_robot=True, monitor_off=monitor_off)
         robot.start()
         return HwRuntime(backend, robot, attach_navigation(robot))
     except BaseException:

@@ -15,6 +15,9 @@ from tests.fixtures import make_base_rig
 
 RADIUS = 0.22
 MOUNT = (0.115, 0.0, 0.0)
+WALLS = 3.0
+"""The greenhouse around every synthetic scan, m: far beyond every zone, and a scan with no
+valid return is blind, not clear."""
 
 
 class ScanSource:
@@ -26,11 +29,12 @@ class ScanSource:
     def latest_scan(self) -> LidarScan | None:
         return self.scan
 
-    def show(self, base_points, stamp: float) -> None:
-        """A scan whose returns land on ``base_points`` (base frame), the rest empty."""
+    def show(self, base_points, stamp: float, background: float = WALLS) -> None:
+        """A scan whose returns land on ``base_points`` (base frame), the rest on a ring of
+        walls ``background`` m from the lidar (inf: nothing there at all)."""
         p = np.asarray(base_points, dtype=float).reshape(-1, 2) - MOUNT[:2]
         angles = np.linspace(-math.pi, math.pi, 720, endpoint=False, dtype=np.float32)
-        ranges = np.full(720, np.inf, dtype=np.float32)
+        ranges = np.full(720, background, dtype=np.float32)
         for x, y in p:
             k = int(np.argmin(np.abs(np.angle(np.exp(1j * (angles - math.atan2(y, x)))))))
             angles[k], ranges[k] = math.atan2(y, x), math.hypot(x, y)
@@ -81,10 +85,11 @@ def test_the_stop_zone_edge_ahead(along, stopped):
     assert (out.vx == 0.0) is stopped
 
 
-@pytest.mark.parametrize("across, stopped", [(0.215, True), (0.225, False)])
+@pytest.mark.parametrize("across, stopped", [(0.125, True), (0.14, False)])
 def test_the_stop_zone_edge_to_the_side(across, stopped):
-    """Beside the first 8 cm ahead the zone is as wide as the footprint."""
-    m, _ = monitor(np.stack([np.linspace(0.03, 0.07, 5), np.full(5, across)], axis=1))
+    """Just ahead of the chassis the zone is as wide as the chassis (0.26 m), not the 0.22 m
+    circle: something 1 cm beside the path of its side is passed by."""
+    m, _ = monitor(np.stack([np.linspace(0.20, 0.24, 5), np.full(5, across)], axis=1))
     assert (m.filter(Twist(0.05, 0.0, 0.0), 0.05).vx == 0.0) is stopped
 
 
@@ -118,13 +123,14 @@ def test_pots_beside_an_aisle_do_not_slow_the_robot():
 
 
 def test_approach_keeps_the_time_to_collision():
-    """A wall 1.0 m ahead: at 0.5 m/s contact is 1.56 s away (more than 1.2 s: untouched); at
-    1.0 m/s it is 0.78 s away, so the twist is scaled to 0.8 / 1.2 (0.1 s steps)."""
+    """A wall 1.0 m ahead, the chassis' front 0.165 m ahead of the centre: at 0.5 m/s contact is
+    1.67 s away (more than 1.2 s: untouched); at 1.0 m/s it is 0.835 s away, first touched at
+    the 0.9 s step, so the twist is scaled to 0.9 / 1.2."""
     m, _ = monitor(blob(1.0, 0.0, n=9, spread=0.2))
     assert m.filter(Twist(0.5, 0.0, 0.0), 0.05) == Twist(0.5, 0.0, 0.0)
     out = m.filter(Twist(1.0, 0.0, 0.0), 0.1)
     assert m.verdict.action == APPROACH
-    assert out.vx == pytest.approx(0.8 / 1.2)
+    assert out.vx == pytest.approx(0.9 / 1.2)
 
 
 def test_approach_follows_a_curving_twist():
@@ -182,7 +188,98 @@ def test_every_mux_source_is_held_below_the_estop(source):
     assert rig.base.command == Twist(0.0, 0.0, 0.0) and rig.base.source == "estop"
 
 
-def test_the_robots_own_arm_inside_the_footprint_is_not_an_obstacle():
-    m, _ = monitor(blob(0.15, 0.0))  # the arm crossing the beam, inside the 0.22 m footprint
+def test_the_chassis_own_returns_are_not_obstacles():
+    m, _ = monitor(blob(0.06, 0.0))  # the shoulder brackets the lidar sees behind it in every pose
     assert m.filter(Twist(0.3, 0.0, 0.0), 0.05) == Twist(0.3, 0.0, 0.0)
-    assert len(m.points) == 0
+    assert np.hypot(m.points[:, 0], m.points[:, 1]).min() > 2.0  # only the walls are left
+
+
+# -- blind is not clear ----------------------------------------------------------------------
+
+def test_a_blind_scan_stops_driving_on_the_tick_it_arrives_and_the_drive_resumes_when_it_sees():
+    m, lidar = monitor()
+    assert m.filter(Twist(0.4, 0.0, 0.3), 0.05) == Twist(0.4, 0.0, 0.3)
+    assert m.fault is None and m.untrusted_since is None
+    lidar.show(np.empty((0, 2)), stamp=0.1, background=math.inf)  # covered: on time, every return inf
+    assert m.filter(Twist(0.4, 0.0, 0.3), 0.1) == Twist(0.0, 0.0, 0.3)
+    assert m.verdict.action == BLIND and m.fault == "lidar_blind" and m.untrusted_since == 0.1
+    lidar.show(np.empty((0, 2)), stamp=0.2, background=math.inf)
+    m.filter(Twist(0.4, 0.0, 0.0), 0.2)
+    assert m.untrusted_since == 0.1  # since when, not since the last scan
+    lidar.show(np.empty((0, 2)), stamp=0.3)
+    assert m.filter(Twist(0.4, 0.0, 0.0), 0.3) == Twist(0.4, 0.0, 0.0)
+    assert m.fault is None and m.untrusted_since is None
+
+
+def test_untrusted_since_covers_a_stale_scan_too():
+    m, _ = monitor()
+    m.check(0.4)
+    assert m.untrusted_since is None
+    m.check(0.6)
+    assert m.fault == "lidar_stale" and m.untrusted_since == pytest.approx(0.5)  # the last scan + 0.5 s
+
+
+def test_an_all_inf_scan_is_blind_with_the_monitor_off_too():
+    """``untrusted_since`` is for the mission's own pause: it does not depend on the monitor acting."""
+    m, lidar = monitor(config=CollisionMonitorConfig(enabled=False))
+    lidar.show(np.empty((0, 2)), stamp=0.1, background=math.inf)
+    assert m.filter(Twist(0.3, 0.0, 0.0), 0.1) == Twist(0.3, 0.0, 0.0)
+    assert m.fault == "lidar_blind" and m.untrusted_since == 0.1
+
+
+# -- the outline: the chassis and the arm as it stands ------------------------------------------
+
+INSPECT = (0.0, -0.40, 0.90, -0.80)
+TUCK = (0.0, -1.40, 1.40, 0.0)
+
+
+def arm_at(q):
+    from arm.config import KinematicsConfig
+    from arm.outline import arm_capsules
+
+    return lambda: arm_capsules(q, KinematicsConfig())
+
+
+def test_a_leg_6_cm_beside_the_chassis_is_seen_and_stops_a_strafe_into_it():
+    leg = np.stack([np.linspace(-0.03, 0.03, 5), np.full(5, 0.13 + 0.06)], axis=1)
+    m, _ = monitor(leg)
+    assert m.filter(Twist(0.0, 0.2, 0.0), 0.05) == Twist(0.0, 0.0, 0.0)
+    assert m.verdict.action == STOP and len(m.points) > 700  # the leg's returns are kept
+    out = m.filter(Twist(0.2, 0.0, 0.0), 0.05)  # driving past it, 6 cm clear: slowed, not stopped
+    assert m.verdict.action != STOP and out.vx > 0.0
+
+
+def test_the_arms_own_returns_are_not_obstacles():
+    """At ``tuck`` the forearm hangs in front of the lidar (model README): its returns are the
+    robot's own, while the same returns with the arm at ``home`` stop the base."""
+    forearm = blob(0.22, 0.0, spread=0.01)
+    lidar = ScanSource()
+    lidar.show(forearm, stamp=0.0)
+    m = CollisionMonitor(CollisionMonitorConfig(), lidar, RADIUS, MOUNT, arm=arm_at(TUCK))
+    assert m.filter(Twist(0.3, 0.0, 0.0), 0.05) == Twist(0.3, 0.0, 0.0)
+    bare = CollisionMonitor(CollisionMonitorConfig(), lidar, RADIUS, MOUNT)
+    assert bare.filter(Twist(0.3, 0.0, 0.0), 0.05) == Twist(0.0, 0.0, 0.0)
+
+
+def test_a_turn_that_swings_the_arm_into_a_return_is_limited():
+    """The arm out at ``inspect`` reaches 0.34 m ahead; a post at (0.30, 0.10) beside it is
+    hit turning left, not turning right, and not at all without the arm."""
+    post = blob(0.30, 0.10, spread=0.01)
+    lidar = ScanSource()
+    lidar.show(post, stamp=0.0)
+    m = CollisionMonitor(CollisionMonitorConfig(), lidar, RADIUS, MOUNT, arm=arm_at(INSPECT))
+    left = m.filter(Twist(0.0, 0.0, 0.8), 0.05)
+    assert m.verdict.action in (STOP, APPROACH) and 0.0 <= left.wz < 0.8
+    assert m.filter(Twist(0.0, 0.0, -0.8), 0.05) == Twist(0.0, 0.0, -0.8)
+    bare = CollisionMonitor(CollisionMonitorConfig(), lidar, RADIUS, MOUNT)
+    assert bare.filter(Twist(0.0, 0.0, 0.8), 0.05) == Twist(0.0, 0.0, 0.8)
+
+
+def test_a_turn_that_hits_within_its_first_step_is_zeroed():
+    """With the arm out a post 6 cm beside the gripper is 0.6 cm from it after 0.1 s of a
+    1 rad/s left turn: no turn at all (the whole twist stopped, a holding verdict)."""
+    lidar = ScanSource()
+    lidar.show(blob(0.32, 0.06, spread=0.005), stamp=0.0)
+    m = CollisionMonitor(CollisionMonitorConfig(), lidar, RADIUS, MOUNT, arm=arm_at(INSPECT))
+    assert m.filter(Twist(0.0, 0.0, 1.0), 0.05) == Twist(0.0, 0.0, 0.0)
+    assert m.verdict.action == STOP and m.verdict.turn == 0.0 and m.verdict.holding
