@@ -31,14 +31,15 @@ def free_port() -> int:
 
 
 class PostgresServer:
-    def __init__(self, fsync: bool = False, bin_dir: Path = PG_BIN):
+    def __init__(self, fsync: bool = False, bin_dir: Path = PG_BIN, port: int | None = None):
+        """``port``: where to listen (default: a free one), e.g. where a history URL already points."""
         self.bin = Path(bin_dir)
         missing = [b for b in ("initdb", "pg_ctl", "postgres") if not (self.bin / b).is_file()]
         if missing:
             raise PostgresUnavailable(f"PostgreSQL 15 server binaries missing in {self.bin} ({', '.join(missing)}): "
                                       f"install the postgresql-15 package (or set LUPIN_PG_BIN to its bin directory)")
         self.root = Path(tempfile.mkdtemp(prefix="lupin-pg-"))
-        self.data, self.port = self.root / "data", free_port()
+        self.data, self.port = self.root / "data", port or free_port()
         self.as_user: list[str] = []
         if os.geteuid() == 0:
             if shutil.which("runuser") is None:

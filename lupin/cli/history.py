@@ -2,9 +2,12 @@
 
 ``patrols`` (newest first), ``pot ID`` (one pot's timeline), ``changes`` (between the last two
 patrols of a mission), ``pests`` (pest pressure over the last N patrols; ``-o FILE.png`` draws
-it on the map), ``export --csv DIR``. Human-readable by default, ``--json`` for tools: one JSON
-document on stdout. The history is ``--history URL`` or ``history.url``; a database that is not
-there, not a history, or newer than this Lupin is exit 2 with one line.
+it on the map), ``export --csv DIR``; ``status`` (where the history is, whether it answers, what
+waits in the robot's spool) and ``sync`` (send the spool now). Human-readable by default,
+``--json`` for tools: one JSON document on stdout. The history is ``--history URL`` or
+``history.url``; a database that is not there, not a history, or newer than this Lupin is exit 2
+with one line. ``pot``, ``changes`` and ``pests`` compare within one greenhouse (the latest
+patrol's: its sim world, or the robot's) unless ``--all``.
 """
 from __future__ import annotations
 
@@ -22,6 +25,12 @@ history_app = typer.Typer(help="The patrol history: patrols, a pot's timeline, c
 
 HISTORY_HELP = "The history database: a SQLite file or postgresql://user@host/db (default: history.url)."
 MISSION_HELP = "Only this mission's patrols (default: the mission of the latest patrol)."
+ALL_HELP = ("Compare across every greenhouse: sim worlds and the robot's patrols together (default: only the "
+            "latest patrol's greenhouse).")
+
+
+def every_option():
+    return typer.Option(False, "--all", help=ALL_HELP)
 
 
 def open_for_reading(ctx: typer.Context, url: Optional[str]):
@@ -94,12 +103,14 @@ def pot(
     pot_id: str = typer.Argument(..., metavar="ID", help="The pot's id, as its missions name it (e.g. P04)."),
     history: Optional[str] = typer.Option(None, "--history", metavar="URL", help=HISTORY_HELP),
     mission: Optional[str] = typer.Option(None, "--mission", help="Only this mission's patrols (default: all)."),
+    every: bool = every_option(),
     as_json: bool = typer.Option(False, "--json", help="One JSON document."),
 ) -> None:
-    """One pot's timeline, oldest first: flower colour, blooms, pest and anomalies, with dates."""
+    """One pot's timeline, oldest first: flower colour, blooms, pest and anomalies, with dates
+    (in the greenhouse of its latest observation unless --all)."""
     store = open_for_reading(ctx, history)
     _check_mission(store, mission)
-    rows = store.pot_timeline(pot_id, mission)
+    rows = store.pot_timeline(pot_id, mission, every)
     if not rows:
         known = store.pots_known(mission)
         raise InputError(f"pot {pot_id}: not in {store.shown}{f' (mission {mission})' if mission else ''} "
@@ -122,13 +133,14 @@ def changes(
     ctx: typer.Context,
     history: Optional[str] = typer.Option(None, "--history", metavar="URL", help=HISTORY_HELP),
     mission: Optional[str] = typer.Option(None, "--mission", help=MISSION_HELP),
+    every: bool = every_option(),
     as_json: bool = typer.Option(False, "--json", help="One JSON document."),
 ) -> None:
-    """What changed between the last two patrols of a mission: new and cleared pests, colour and
-    bloom-count changes, newly failed pots. Only what changed."""
+    """What changed between the last two patrols of a mission in one greenhouse: new and cleared
+    pests, colour and bloom-count changes, newly failed pots. Only what changed."""
     store = open_for_reading(ctx, history)
     _check_mission(store, mission)
-    cs = store.changes(mission)
+    cs = store.changes(mission, every)
     if as_json:
         _print_json({"database": store.shown, **cs.as_json()})
         return
@@ -151,6 +163,7 @@ def pests(
     mission: Optional[str] = typer.Option(None, "--mission", help=MISSION_HELP),
     last: int = typer.Option(10, "--last", min=1, help="Over the last N patrols of the mission."),
     output: Optional[Path] = typer.Option(None, "-o", "--output", help="Also draw the pest map to this PNG file."),
+    every: bool = every_option(),
     as_json: bool = typer.Option(False, "--json", help="One JSON document."),
 ) -> None:
     """Pest pressure per pot over the last N patrols (how often a pest was seen, the current
@@ -159,7 +172,7 @@ def pests(
         raise InputError(f"-o {output}: must name a .png file")
     store = open_for_reading(ctx, history)
     _check_mission(store, mission)
-    pm = store.pest_map(last, mission)
+    pm = store.pest_map(last, mission, every)
     if output is not None:
         from hw.atomic_file import write_png
         from mission.history.pest_map import draw_pests, saved_map
@@ -213,3 +226,84 @@ def export(
         return
     for name, n in counts.items():
         print(f"wrote {csv_dir / name} ({n} rows)")
+
+
+def _spool(config):
+    """The spool of this machine's runtime: ``history.spool`` in the state directory of
+    ``runtime.backend`` (the robot's fixed one; a sim's is fresh per run unless
+    ``runtime.state_dir`` names one)."""
+    from mission.history.spool import open_spool
+    from mission.runtime.state_dir import state_directory
+
+    return open_spool(state_directory(config.runtime, config.runtime.backend))
+
+
+def _target(ctx: typer.Context, url: Optional[str]):
+    config = run_config(ctx)
+    option = "--history" if url is not None else "history.url"
+    url = url if url is not None else config.history.url
+    from mission.history.url import parse_history_url
+
+    if parse_history_url(url, option) is None:
+        raise InputError(f"{option} none: the history is off; give --history URL")
+    return config, url, option
+
+
+@history_app.command("status")
+def status(
+    ctx: typer.Context,
+    history: Optional[str] = typer.Option(None, "--history", metavar="URL", help=HISTORY_HELP),
+    as_json: bool = typer.Option(False, "--json", help="One JSON document."),
+) -> None:
+    """Where the history is, whether it answers now, and how many rows wait in the local spool
+    (what the robot recorded while the database did not answer)."""
+    from mission.history.store import open_history
+
+    config, url, option = _target(ctx, history)
+    spool = _spool(config)
+    try:
+        store = open_history(url, option, create=False, connect_timeout=config.history.connect_timeout, spool=spool)
+        shown, why = store.shown, store.outbox.down or store.reachable()
+        store.close()
+    except InputError as exc:  # a local file not there (yet), or one that is not a history
+        from mission.history.url import parse_history_url
+
+        shown, why = parse_history_url(url, option).shown, str(exc).split(": ", 1)[-1]
+    waiting, rows, others = spool.count(shown), spool.rows(shown), {
+        db: n for db, n in spool.databases().items() if db != shown}
+    spool.close()
+    if as_json:
+        _print_json({"database": shown, "reachable": why is None, "reason": why, "spool": str(spool.path),
+                     "waiting": waiting, "rows_waiting": rows, "other_databases": others})
+        return
+    print(f"history: {shown}")
+    print(f"reachable: {'yes' if why is None else f'no ({why})'}")
+    print(f"spool: {spool.path}: {rows} row(s) waiting ({waiting} write(s))")
+    for db, n in others.items():
+        print(f"  also {n} write(s) waiting for {db} (another database: lupin history sync --history URL)")
+
+
+@history_app.command("sync")
+def sync(
+    ctx: typer.Context,
+    history: Optional[str] = typer.Option(None, "--history", metavar="URL", help=HISTORY_HELP),
+    as_json: bool = typer.Option(False, "--json", help="One JSON document."),
+) -> None:
+    """Send what waits in the local spool to the database now, in order (a resend is a no-op).
+    Exit 0 when the spool is empty after it, 1 when the database did not take everything."""
+    from mission.history.store import open_history
+
+    config, url, option = _target(ctx, history)
+    spool = _spool(config)
+    store = open_history(url, option, connect_timeout=config.history.connect_timeout, spool=spool)
+    left = store.outbox.flush()
+    sent, why = store.outbox.delivered, store.outbox.down
+    store.close()
+    spool.close()
+    if as_json:
+        _print_json({"database": store.shown, "sent_rows": sent, "waiting": left, "reason": why})
+    else:
+        print(f"history {store.shown}: {sent} row(s) sent from {spool.path}; "
+              + ("nothing waits" if not left else f"{left} write(s) still wait ({why})"))
+    if left:
+        raise typer.Exit(1)

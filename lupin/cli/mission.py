@@ -55,6 +55,8 @@ def rescout(
     mission: Optional[str] = typer.Option(None, "--mission", help="Of this mission's patrols (default: the latest "
                                           "patrol's mission)."),
     output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write here instead of stdout."),
+    every: bool = typer.Option(False, "--all", help="Over the patrols of every greenhouse (default: only the latest "
+                               "patrol's: its sim world, or the robot's)."),
 ) -> None:
     """Write a directed re-scouting mission: the pots with a pest in the last N patrols and their
     neighbours within R metres, in the shortest order. Exit 1 when no pot had a pest."""
@@ -68,7 +70,7 @@ def rescout(
         raise InputError(f"--radius {radius}: must be a finite number of metres")
     store = open_for_reading(ctx, history)
     _check_mission(store, mission)
-    pests = store.pest_map(last, mission)
+    pests = store.pest_map(last, mission, every)
     if not pests.patrols:
         raise InputError(f"{store.shown}: no patrols recorded: nothing to re-scout from")
     plan = make_rescout(pests, radius)

@@ -246,10 +246,14 @@ def history_lines(doc: dict) -> list[str]:
     if h is None:
         return []
     if h.get("patrol") is None:
+        if h.get("spooled"):  # the database did not answer: the patrol waits in the spool (spec/history.md)
+            return [f"history: {h['database']} did not answer; the patrol waits in the spool ({h['spooled']} "
+                    f"write(s)), sent when it answers (lupin history status|sync)"]
         return [f"history: NOT recorded in {h['database']} (see the errors above)"]
     since = doc.get("changes_since")
     changes = doc.get("changes", [])
     errors = f"; {h['write_errors']} write error(s), see above" if h.get("write_errors") else ""
+    errors += f"; {h['spooled']} write(s) wait in the spool" if h.get("spooled") else ""
     head = (f"history: patrol {h['patrol']} in {h['database']}{errors}; " +
             (f"{len(changes)} change(s) since patrol {since['patrol']}" if since else "the mission's first patrol there"))
     return [head] + [f"  change {c['kind']} at {c['pot']}: {c['detail']}" for c in changes]

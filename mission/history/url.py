@@ -49,7 +49,7 @@ def parse_history_url(text: str, option: str = "--history") -> HistoryTarget | N
     scheme = text.split("://", 1)[0].lower()
     try:
         url = make_url(text)
-    except ArgumentError:
+    except (ArgumentError, ValueError):  # ValueError: a port that is not a number
         raise InputError(f"{option} {text}: not a database URL") from None
     if scheme == "sqlite":
         if not url.database:
