@@ -70,8 +70,10 @@ def _no_shared_history():
     """Patrols run by tests record no history unless a test names a database: by default a patrol
     records into ./lupin-history.db and reports its changes against the previous patrol of the
     mission, which, shared by tests running in parallel, would make each report depend on the
-    others. The history's own tests set ``--history`` or ``LUPIN_HISTORY__URL`` themselves."""
+    others. Forced, not defaulted: a ``LUPIN_HISTORY__URL`` exported in the shell (a farm
+    server's) must never receive test patrols (tests/history/test_isolation.py). The history's
+    own tests set ``--history`` or ``LUPIN_HISTORY__URL`` themselves."""
     import os
 
-    os.environ.setdefault("LUPIN_HISTORY__URL", "none")
+    os.environ["LUPIN_HISTORY__URL"] = "none"
     yield
