@@ -72,19 +72,25 @@ WRITER = textwrap.dedent("""
     from mission.history.store import open_history
     from mission.patrol.mission_file import Mission, MissionPot
 
-    go = Path({go!r})
-    while not go.exists():      # both writers start together
-        time.sleep(0.01)
+    sync, me, other = Path({sync!r}), {robot!r}, {other!r}
+
+    def barrier(name):          # lock-step with the other robot: neither goes on before both got here
+        (sync / f"{{me}}-{{name}}").touch()
+        while not (sync / f"{{other}}-{{name}}").exists():
+            time.sleep(0.005)
+
+    barrier("go")
     h = open_history({url!r})   # both open (and build) the new database at the same moment
     pots = [MissionPot(id=f"P{{k:03d}}", x=float(k % 20), y=float(k // 20), facing=0.0) for k in range({n})]
     m = Mission(name="shared", pots=pots)
-    r = start_recording(h, m, {robot!r}, None, Path({report!r}))
+    r = start_recording(h, m, me, None, Path({report!r}))
     for k, pot in enumerate(pots):
         entry = {{"id": pot.id, "status": "inspected", "tag_read": None, "images": [],
                   "flower": {{"color": "red", "blooms": 1, "bug": k % 7 == 0, "confidence": 0.9}}}}
         r.recorded(pot, entry, ["bug"] if k % 7 == 0 else [])
-        if k % 10 == 0:
-            r.drain()           # interleave the two robots' transactions
+        if k % {chunk} == {chunk} - 1:
+            assert r.drain()    # this chunk committed ...
+            barrier(k)          # ... while the other robot's patrol is open and writing its own
     r.finished({{"outcome": "completed", "sim_time_s": 1.0, "distance_m": 2.0, "pots": []}})
     assert r.wait() and not r.errors, r.errors
     print(r.patrol_id)
@@ -92,12 +98,16 @@ WRITER = textwrap.dedent("""
 
 
 def test_two_robots_record_two_patrols_into_one_database_at_once(pg_url, tmp_path):
-    root, go, n = str(Path(__file__).resolve().parents[2]), tmp_path / "go", 120
-    procs = [subprocess.Popen([sys.executable, "-c", WRITER.format(root=root, go=str(go), url=pg_url, n=n, robot=robot,
-                                                                     report=str(tmp_path / robot / "report.json"))],
-                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-             for robot in ("mirte", "fred")]
-    go.touch()
+    """Two processes write their patrols in lock-step (a file barrier after every chunk of pots),
+    so their transactions interleave; the database then shows the rows of the two patrols
+    alternating in time, chunk by chunk, and every row of both there once, in order."""
+    root, n, chunk = str(Path(__file__).resolve().parents[2]), 120, 10
+    (tmp_path / "sync").mkdir()
+    robots = ("mirte", "fred")
+    procs = [subprocess.Popen([sys.executable, "-c", WRITER.format(
+        root=root, sync=str(tmp_path / "sync"), url=pg_url, n=n, chunk=chunk, robot=robot, other=other,
+        report=str(tmp_path / robot / "report.json"))], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+             for robot, other in zip(robots, reversed(robots))]
     outs = [p.communicate(timeout=180) for p in procs]
     for p, (out, err) in zip(procs, outs):
         assert p.returncode == 0, err
@@ -105,12 +115,58 @@ def test_two_robots_record_two_patrols_into_one_database_at_once(pg_url, tmp_pat
     h = open_history(pg_url, create=False)
     patrols = {p.id: p for p in h.patrols()}
     assert sorted(patrols) == ids and {p.robot for p in patrols.values()} == {"mirte", "fred"}
+    timeline = []
     for pid in ids:
         rows = h.observations(pid)
         assert [o.seq for o in rows] == list(range(1, n + 1))  # every pot, in order, none lost
         assert sum(bool(o.bug) for o in rows) == len(range(0, n, 7))
         assert patrols[pid].outcome == "completed" and patrols[pid].ended_at is not None
+        timeline += [(o.observed_at, patrols[pid].robot) for o in rows]
+    by_time = [robot for _, robot in sorted(timeline)]
+    switches = sum(a != b for a, b in zip(by_time, by_time[1:]))
+    assert switches >= n // chunk - 1  # they overlapped: chunk after chunk, not one patrol then the other
     with psycopg.connect(pg_url) as c:  # built once, not twice
         assert [r[0] for r in c.execute("SELECT version FROM schema_version ORDER BY version")] == list(
             range(1, LATEST + 1))
     h.close()
+
+
+def test_a_server_down_at_the_start_gets_the_patrol_when_it_comes_up(tmp_path, capsys, monkeypatch):
+    """The robot opens its history while the farm server is down (nothing listens on its port):
+    no error, the patrol is recorded into the spool; then a server comes up on that port and
+    ``lupin history sync`` sends it, in order, once."""
+    from lupin.bench.pg_server import PostgresServer, free_port
+    from lupin.cli.patrol import open_patrol_history
+    from mission.history.spool import open_spool
+    from mission.runtime.config import load_config
+
+    from .test_recorder import record, report_with_history, visit
+
+    port = free_port()
+    url = f"postgresql://lupin@127.0.0.1:{port}/postgres"
+    monkeypatch.setenv("LUPIN_RUNTIME__STATE_DIR", str(tmp_path / "state"))
+    h = open_patrol_history(load_config(), url)  # as lupin patrol and lupin serve open it
+    assert h.outbox.down and "refused" in h.outbox.down
+    r, mission, recorder = report_with_history(tmp_path, h)
+    for pot, tag in (("P01", 1), ("P02", 2)):
+        record(r, mission, pot, visit(pot, tag, bug=pot == "P02"))
+    doc = r.finish("completed")
+    assert not recorder.wait(retry=False) and doc["history"]["patrol"] is None and doc["history"]["spooled"] >= 3
+    h.close()
+    assert main(["history", "sync", "--history", url]) == 1  # still down: nothing lost
+    assert open_spool(tmp_path / "state").rows(url) == 5
+    server = PostgresServer(port=port)
+    try:
+        capsys.readouterr()
+        assert main(["history", "status", "--history", url]) == 0
+        assert "reachable: yes" in capsys.readouterr().out
+        assert main(["history", "sync", "--history", url]) == 0
+        assert main(["history", "sync", "--history", url]) == 0  # a second sync sends nothing twice
+        db = open_history(url, create=False)
+        [patrol] = db.patrols()
+        assert patrol.outcome == "completed" and patrol.world == "unit-world"
+        assert [(o.pot_id, o.seq, o.bug) for o in db.observations(patrol.id)] == [
+            ("P01", 1, False), ("P02", 2, True), ("P03", 3, None)]
+        db.close()
+    finally:
+        server.stop()
