@@ -42,6 +42,11 @@ class SimFaults:
         """No scans for ``duration`` seconds (a USB hiccup)."""
         self._lidar.dropout_until = self.engine.time + duration
 
+    def lidar_blind(self, duration: float) -> None:
+        """Scans arrive on time for ``duration`` seconds with every return invalid (the lidar
+        covered or sun-blinded)."""
+        self._lidar.blind_until = self.engine.time + duration
+
     def camera_dropout(self, camera: str, duration: float) -> None:
         """No frames from ``camera`` for ``duration`` seconds: every capture fails."""
         self._cameras[camera].dropout_until = self.engine.time + duration

@@ -36,6 +36,8 @@ class SimLidar:
         self._dist = np.zeros(n, dtype=np.float64)
         self._cache: tuple[int, LidarScan] | None = None
         self.dropout_until = -1.0
+        self.blind_until = -1.0
+        """Until then every revolution arrives on time with no valid return (covered, sun)."""
 
     def cast(self) -> np.ndarray:
         """One noiseless revolution from the current pose: metres, ``inf`` where nothing hit."""
@@ -61,6 +63,8 @@ class SimLidar:
         rng = np.random.default_rng([self.engine.config.seed, 1, k])
         ranges = ranges + rng.normal(0.0, self.config.noise_std, ranges.shape)
         ranges[(ranges < self.config.range_min) | (ranges > self.config.range_max)] = np.inf
+        if t < self.blind_until:
+            ranges[:] = np.inf
         scan = LidarScan(k / self.config.rate, self.angles, ranges.astype(np.float32))
         self._cache = (k, scan)
         return scan

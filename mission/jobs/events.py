@@ -98,6 +98,8 @@ class EventPlayer:
                 self.holds.pause()
             case ev.LidarDropout():
                 f.lidar_dropout(e.duration)
+            case ev.LidarBlind():
+                f.lidar_blind(e.duration)
             case ev.ServoStall():
                 f.servo_stall(e.joint, e.mode)
             case ev.Battery():

@@ -81,6 +81,8 @@ class LinkClient:
             v.monitor_action = monitor.get("action", "none")
             nearest = monitor.get("nearest")
             v.monitor_nearest = float(nearest) if isinstance(nearest, (int, float)) else math.inf
+            v.monitor_fault = monitor.get("fault")
+            v.monitor_enabled = monitor.get("enabled", True) is not False
             v.estop_engaged, v.estop_latched = m["estop"]["engaged"], m["estop"]["latched"]
             v.estop_why = m["estop"].get("why", "")
             b = m["battery"]

@@ -59,7 +59,8 @@ class Telemetry:
         amps = power.reading.current if power.reading is not None else float("nan")
         msg = {"t": round(now, 3), "pose": [_r(pose.x), _r(pose.y), _r(pose.yaw)],
                "velocity": [_r(tw.vx), _r(tw.vy), _r(tw.wz)], "mux": robot.base.source,
-               "monitor": {"action": robot.monitor.verdict.action, "nearest": _r(robot.monitor.verdict.nearest)},
+               "monitor": {"action": robot.monitor.verdict.action, "nearest": _r(robot.monitor.verdict.nearest),
+                           "fault": robot.monitor.fault, "enabled": robot.monitor.config.enabled},
                "estop": {"engaged": robot.estop.engaged(),
                          "latched": bool(s.run is not None and s.run.tree.holds.latched),
                          "why": robot.estop.held_since_start},

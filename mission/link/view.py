@@ -81,6 +81,10 @@ class RobotView:
     monitor_action: str = "none"
     """The collision monitor's last verdict: none, slowdown, approach, stop or blind."""
     monitor_nearest: float = math.inf
+    monitor_fault: str | None = None
+    """Why the monitor cannot trust the lidar: ``lidar_blind``, ``lidar_stale`` or None."""
+    monitor_enabled: bool = True
+    """False: the robot runs without its collision monitor (``--no-collision-monitor``)."""
     """Its nearest point in the direction of travel, m."""
     estop_engaged: bool = False
     estop_latched: bool = False

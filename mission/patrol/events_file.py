@@ -64,6 +64,12 @@ class LidarDropout(_Event):
     duration: float = Field(gt=0)
 
 
+class LidarBlind(_Event):
+    do: Literal["lidar_blind"]
+    duration: float = Field(gt=0)
+    """Seconds the scans arrive with every return invalid (covered, sun)."""
+
+
 class ServoStall(_Event):
     do: Literal["servo_stall"]
     joint: str
@@ -144,7 +150,7 @@ class HistoryDown(_Event):
     """Seconds the history's database cannot be reached (a farm server down, the WiFi gone)."""
 
 
-EVENT_TYPES = (EStop, SoftEStop, Resume, Pause, LidarDropout, ServoStall, Battery, ClearMap, Teleop, PlaceBox,
+EVENT_TYPES = (EStop, SoftEStop, Resume, Pause, LidarDropout, LidarBlind, ServoStall, Battery, ClearMap, Teleop, PlaceBox,
                ControllerRace, CameraDropout, MovePot, WalkerEvent, RuntimeCrash, HistoryDown)
 ACTIONS = {t.model_fields["do"].annotation.__args__[0]: t for t in EVENT_TYPES}
 Event = Annotated[Union[EVENT_TYPES], Field(discriminator="do")]

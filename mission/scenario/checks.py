@@ -219,6 +219,20 @@ def _dropout(x, f: dict, at: float) -> tuple[bool, str, str]:
     return ok, expected, f"{zero}; {again}"
 
 
+def _blind(x, f: dict, at: float) -> tuple[bool, str, str]:
+    expected = (f"zero linear twist to the base from <= {x.zero_linear_within:g} s after the lidar went blind at "
+                f"{at:.1f} s until it saw again ({at + f['blind_s']:.1f} s), autonomy driving <= "
+                f"{x.drives_again_within:g} s after")
+    zero = ("the base was driven until the lidar saw again" if f["zero_linear_after_s"] is None else
+            f"zero linear twist from {f['zero_linear_after_s']:.2f} s after (moved {f['moved_while_zero_m'] * 1000:.0f} mm "
+            "while held)")
+    again = ("autonomy never drove again" if f["drives_again_after_s"] is None else
+             f"driving again {f['drives_again_after_s']:.1f} s after the lidar saw again")
+    ok = (f["zero_linear_after_s"] is not None and f["zero_linear_after_s"] <= x.zero_linear_within
+          and f["drives_again_after_s"] is not None and f["drives_again_after_s"] <= x.drives_again_within)
+    return ok, expected, f"{zero}; {again}"
+
+
 def _clear_map(x, f: dict, at: float) -> tuple[bool, str, str]:
     expected = (f"SLAM's map erased and its worker respawned at the reset ({at:.1f} s), the map back to "
                 f">= {x.map_back:.0%} of its {f['known_before']} known cells within {x.within:g} s")
@@ -249,5 +263,5 @@ def _restart(x, f: dict, at: float) -> tuple[bool, str, str]:
             f"e-stop on {f['ticks_estop']} of {f['ticks']} ticks after the restart, moved {f['moved_m'] * 1000:.1f} mm")
 
 
-_JUDGES = {"pause": _pause, "lidar_dropout": _dropout, "clear_map": _clear_map, "teleop": _teleop,
+_JUDGES = {"pause": _pause, "lidar_dropout": _dropout, "lidar_blind": _blind, "clear_map": _clear_map, "teleop": _teleop,
            "runtime_crash": _restart}

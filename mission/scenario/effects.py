@@ -11,6 +11,9 @@ the twist the base controller was handed, SLAM's map), from the instant the even
   their 10 % dead zone, so it turns nothing; an e-stop resets the PID and writes exact zeros.)
 * ``lidar_dropout``: while the lidar is blind the twist handed to the base is zero from some
   instant on (how long after the scans stopped), and autonomy drives again after they return;
+* ``lidar_blind``: while every return is invalid the *linear* twist handed to the base is zero
+  from some instant on (the collision monitor: blind is not clear; a turn may pass), and
+  autonomy drives again after the lidar sees;
 * ``clear_map``: SLAM's map is erased, a fresh worker is spawned, and the map's known cells
   come back to a fraction of what it knew before (and when);
 * ``runtime_crash``: on every control tick after the restart the base is held by the e-stop
@@ -30,7 +33,7 @@ from mission.scenario.motion_log import MotionLog
 from mission.scenario.scenario_file import (ClearMapEffect, DropoutEffect, EffectsExpect, PauseEffect, RestartEffect,
                                            TeleopEffect)
 
-KINDS = {"pause": ev.Pause, "lidar_dropout": ev.LidarDropout, "clear_map": ev.ClearMap, "teleop": ev.Teleop,
+KINDS = {"pause": ev.Pause, "lidar_dropout": ev.LidarDropout, "lidar_blind": ev.LidarBlind, "clear_map": ev.ClearMap, "teleop": ev.Teleop,
          "runtime_crash": ev.RuntimeCrash}
 """The event kinds whose effect is judged, by their ``effects:`` key."""
 
@@ -72,6 +75,8 @@ def event_effects(log: MotionLog, events: list, fired: dict[int, float], end: fl
                 effect.figures = pause(log, t, min(resumes, default=end), expect.pause or PauseEffect())
             case ev.LidarDropout():
                 effect.figures = lidar_dropout(log, t, e.duration, end)
+            case ev.LidarBlind():
+                effect.figures = lidar_blind(log, t, e.duration, end)
             case ev.ClearMap():
                 effect.figures = clear_map(log, t, expect.clear_map or ClearMapEffect(), end)
             case ev.Teleop():
@@ -116,6 +121,20 @@ def lidar_dropout(log: MotionLog, at: float, duration: float, end: float) -> dic
     later = log.after(back, end)
     again = [k for k in range(later.start, later.stop) if log.source[k] == "auto" and np.any(command[k] != 0.0)]
     return {"blind_s": duration, "zero_twist_after_s": round(log.t[start] - at, 3) if held else None,
+            "moved_while_zero_m": round(path_length(log.xy[start:s.stop]), 4) if held else None,
+            "drives_again_after_s": round(log.t[again[0]] - back, 3) if again else None}
+
+
+def lidar_blind(log: MotionLog, at: float, duration: float, end: float) -> dict:
+    back = at + duration
+    s = log.after(at, back - 1e-6)  # the tick at ``back`` takes the first scan that sees again
+    command = np.asarray(log.command, dtype=float).reshape(-1, 3)
+    driven = np.flatnonzero(np.any(command[s, :2] != 0.0, axis=1))
+    start = s.start + (int(driven[-1]) + 1 if len(driven) else 0)
+    held = start < s.stop
+    later = log.after(back, end)
+    again = [k for k in range(later.start, later.stop) if log.source[k] == "auto" and np.any(command[k, :2] != 0.0)]
+    return {"blind_s": duration, "zero_linear_after_s": round(log.t[start] - at, 3) if held else None,
             "moved_while_zero_m": round(path_length(log.xy[start:s.stop]), 4) if held else None,
             "drives_again_after_s": round(log.t[again[0]] - back, 3) if again else None}
 

@@ -87,6 +87,14 @@ class DropoutEffect(StrictEntry):
     """s from the scans' return until autonomy drives the base again (the patrol goes on)."""
 
 
+class BlindEffect(StrictEntry):
+    zero_linear_within: float = Field(0.25, gt=0)
+    """s from the lidar going blind until the linear twist handed to the base is zero for good:
+    the next revolution (0.1 s) is judged blind on the base tick that takes it (0.1 s)."""
+    drives_again_within: float = Field(3.0, gt=0)
+    """s from the lidar seeing again until autonomy drives the base again (the patrol goes on)."""
+
+
 class ClearMapEffect(StrictEntry):
     map_back: float = Field(0.8, gt=0, le=1)
     """The fraction of the cells SLAM's map knew before the reset that it must know again."""
@@ -131,6 +139,7 @@ class EffectsExpect(StrictEntry):
 
     pause: Optional[PauseEffect] = None
     lidar_dropout: Optional[DropoutEffect] = None
+    lidar_blind: Optional[BlindEffect] = None
     clear_map: Optional[ClearMapEffect] = None
     teleop: Optional[TeleopEffect] = None
     runtime_crash: Optional[RestartEffect] = None

@@ -41,6 +41,10 @@ def status_chips(v: RobotView) -> list[Text]:
         nav.append(f" ({v.nav_reason})", "bold red" if v.nav_state == "failed" else "")
     chips.append(nav)
     chips.append(Text(f"wheels: {v.mux_source}"))
+    if not v.monitor_enabled:  # nobody may miss that nothing stands between the twist and a person
+        chips.append(Text(" COLLISION MONITOR OFF ", ALARM))
+    if v.monitor_fault:  # the lidar cannot be trusted: the base will not drive
+        chips.append(Text(f" {v.monitor_fault.replace('_', ' ')} ", ALARM))
     if v.monitor_action != "none":  # the collision monitor is holding the base back, and why
         near = f" {v.monitor_nearest:.2f} m" if math.isfinite(v.monitor_nearest) else ""
         chips.append(Text(f" {v.monitor_action}{near} ", "bold white on red" if v.monitor_action in ("stop", "blind")
