@@ -18,11 +18,13 @@ import numpy as np
 from py_trees.common import Status
 
 from hw.atomic_file import write_atomic, write_png
+from hw.collision_monitor import LIDAR_BLIND
 from hw.odometry import Pose2D
 from hw.people import nobody
 from mission.history.recorder import PatrolRecorder, start_recording
 from mission.history.store import History
 from mission.patrol.climate import ClimateSource, NoClimate
+from mission.patrol.faults import RATE as FAULT_RATE, Faults
 from mission.patrol.monitor_holds import RATE as HOLDS_RATE, MonitorHolds
 from mission.patrol.mission_file import Mission
 from mission.patrol.person_encounters import PersonEncounters
@@ -131,6 +133,7 @@ class PatrolRun:
         self.robot.scheduler.cancel("patrol.trace")
         self.robot.scheduler.cancel("patrol.holds")
         self.robot.scheduler.cancel("patrol.people")
+        self.robot.scheduler.cancel("patrol.faults")
         occupancy = final_map(self.nav, self.robot.scheduler)
         directory = self.report.directory
         if occupancy is not None:
@@ -192,6 +195,9 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
                               config.nav.costmap.robot_radius)
     report.observers.append(people)  # the tracker's engineer passes its PeopleSource here instead of nobody
     robot.scheduler.every("patrol.people", HOLDS_RATE, people.tick)
+    faults = Faults({"lidar_blind": lambda: robot.monitor.fault == LIDAR_BLIND}, report.t0)
+    report.observers.append(faults)
+    robot.scheduler.every("patrol.faults", FAULT_RATE, faults.tick)
     run = PatrolRun(robot, nav, tree, report, close, history=recorder)
     robot.mission_state = run.led_state
 
