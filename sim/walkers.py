@@ -111,7 +111,7 @@ class SimWalkers:
     def gap(self, walker: str, x: float, y: float) -> float:
         """Distance from (x, y) to what the walker stands on the floor with, m (negative inside)."""
         w = self._walks[walker]
-        return footprint_gap(*w.at(w.s), w.heading, w.half, x, y, w.crouching)
+        return float(footprint_gap(*w.at(w.s), w.heading, w.half, x, y, w.crouching))
 
     def hold(self, walker: str, held: bool) -> None:
         """Stop a walker where it is (True) or let it walk on (False)."""

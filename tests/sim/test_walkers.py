@@ -109,6 +109,7 @@ def test_a_crouching_worker_is_one_block_to_the_lidar_and_the_judges():
     sim = _robot(path=[[2.0, 2.0]], posture="crouching", spawn=(1.0, 2.0))
     sim.engine.advance_to(0.3)
     assert sim.walkers.gap("W1", 1.0, 2.0) == pytest.approx(0.75)
+    assert type(sim.walkers.gap("W1", 2.0, 2.0)) is float      # inside the block too: a plain float for the judges' JSON
     scan = sim.lidar.latest_scan()
     wrapped = np.arctan2(np.sin(scan.angles), np.cos(scan.angles))
     face = scan.ranges[np.abs(wrapped) < 0.25]  # +-0.25 rad at ~0.75 m: +-0.19 m of its 0.6 m face
