@@ -150,17 +150,20 @@ def changed(conn: Connection, before: int, after: int) -> list[Change]:
     return out
 
 
-def pest_map(conn: Connection, last: int, mission: str | None = None, every: bool = False) -> PestMap:
+def pest_map(conn: Connection, last: int, mission: str | None = None, every: bool = False,
+             as_of: Patrol | None = None) -> PestMap:
     """Each pot's pest pressure over the last ``last`` patrols of ``mission`` (default: the latest
     patrol's) in the latest one's greenhouse (any, with ``every``): how many of them judged its
     flower, how many saw a pest, the current streak, and where the pot stood when last seen.
     Counted by the database (one pass over the patrols' rows, by the primary key); only the pest
-    rows come back for the streaks."""
-    mission = mission or latest_mission(conn)
+    rows come back for the streaks. ``as_of``: as it stood at that patrol (it and those before)."""
+    mission = (as_of.mission if as_of else None) or mission or latest_mission(conn)
     if mission is None:
         return PestMap(None, ())
-    latest = latest_patrols(conn, mission, 1)
-    chosen = latest_patrols(conn, mission, last, world=EVERY if every or not latest else latest[0].world)
+    latest = [as_of] if as_of is not None else latest_patrols(conn, mission, 1)
+    world = EVERY if every or not latest else latest[0].world
+    chosen = latest + latest_patrols(conn, mission, last - 1, before=as_of, world=world) if as_of is not None else \
+        latest_patrols(conn, mission, last, world=world)
     rank = {p.id: k for k, p in enumerate(chosen)}  # 0: the latest
     in_chosen = O.c.patrol_id.in_(list(rank))
     counts = {pot_id: (judged, int(pests or 0)) for pot_id, judged, pests in conn.execute(
