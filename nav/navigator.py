@@ -34,6 +34,11 @@ deadline and progress check stopped, replanning at 1 Hz, while a person stands i
 no valid control (recovery would back off into whoever is behind). Those waits and the
 collision monitor's holds count together against ``blocked_wait``; past it the goal fails
 ``blocked`` and the patrol comes back to the pot after the others (a bounded wait, then retry).
+A person's keep-out reaches along their next ``predict_time`` s of walking, and while the robot
+stands inside it (a walker who does not yield is coming) it does not just stand there: it steps
+out of the way at ``EVADE_SPEED``, sideways to a walker's way or away from someone standing,
+along the first direction of a fan the local costmap without people keeps free, never towards
+them.
 """
 from __future__ import annotations
 
@@ -78,6 +83,14 @@ BLOCKED_REPLAN_GAP = 0.5
 #: Room the global costmap takes in round the robot and the goal before a plan, m: the planner's
 #: 0.5 m goal tolerance and the robot's footprint fit inside it.
 COVER_MARGIN = 1.0
+#: Speed of a step out of a person's way, m/s: issue 28's most within 1.0 m of a person.
+EVADE_SPEED = 0.15
+#: How far ahead a direction to step out along must be free of pots and walls, m.
+EVADE_LOOK = 0.3
+#: A person faster than this is walking somewhere: step sideways to their way, m/s.
+WALKING = 0.2
+#: The fan of directions tried, from the preferred one out, rad.
+EVADE_FAN = np.radians([0, 30, -30, 60, -60, 90, -90, 120, -120, 150, -150, 180])
 
 
 class Costmap(Protocol):
@@ -307,33 +320,73 @@ class Navigator:
             self.waiting_for = why
         if not why:
             return False
-        self.io.publish(ZERO_TWIST, now)
         self.smoother.reset()
-        self._hold(now, dt, why)
+        if not self._hold(now, dt, why):
+            self.io.publish(self._evade(), now)
         return True
 
-    def _people_in_map(self) -> list[tuple[float, float, float]]:
-        """(x, y, keep_out) of every person that counts, map frame."""
+    def _people_now(self) -> list[Person]:
         layer = self.config.costmap.global_costmap.people
-        people = [p for p in self.io.people() if p.confidence >= layer.min_confidence]
+        return [p for p in self.io.people() if p.confidence >= layer.min_confidence]
+
+    def _people_in_map(self) -> list[tuple[np.ndarray, np.ndarray, float]]:
+        """(where, where in ``predict_time``, keep_out) of every person that counts, map frame."""
+        people = self._people_now()
         if not people:
             return []
-        xy = transform_points(self.localisation.map_to_odom(), np.array([[p.x, p.y] for p in people]))
-        return [(x, y, self._keep_out(p)) for (x, y), p in zip(xy, people)]
+        t = self.config.costmap.global_costmap.people.predict_time
+        odom = np.array([[p.x, p.y, p.x + p.vx * t, p.y + p.vy * t] for p in people])
+        m2o = self.localisation.map_to_odom()
+        now, then = transform_points(m2o, odom[:, :2]), transform_points(m2o, odom[:, 2:])
+        return [(a, b, self._keep_out(p)) for a, b, p in zip(now, then, people)]
 
     def _keep_out(self, person: Person) -> float:
         return person.radius + self.config.costmap.global_costmap.people.clearance + self.config.costmap.robot_radius
 
+    def _in_keep_out(self, x: float, y: float) -> bool:
+        """Is the point within a person's keep-out, their next steps included?"""
+        return any(_to_segment(np.array([x, y]), a, b) < r for a, b, r in self._people_in_map())
+
     def _goal_taken(self) -> bool:
         """Is the goal inside a person's keep-out (standing there would put the robot within
         ``clearance`` of them)?"""
-        g = self.goal
-        return any(math.hypot(x - g.x, y - g.y) < r for x, y, r in self._people_in_map())
+        return self._in_keep_out(self.goal.x, self.goal.y)
 
     def _person_close(self) -> bool:
-        """Is the robot itself inside a person's keep-out (they came to it)?"""
+        """Is the robot itself inside a person's keep-out (they came to it, or are coming)?"""
         pose = self.map_pose()
-        return any(math.hypot(x - pose.x, y - pose.y) < r for x, y, r in self._people_in_map())
+        return self._in_keep_out(pose.x, pose.y)
+
+    def _evade(self) -> Twist:
+        """A step out of the way of the nearest person whose keep-out the robot is in (module
+        docstring); zero with nobody that close or no free direction."""
+        odom = self.io.odom_pose()
+        here = np.array([odom.x, odom.y])
+        t = self.config.costmap.global_costmap.people.predict_time
+        close = [(p, _to_segment(here, np.array([p.x, p.y]), np.array([p.x + p.vx * t, p.y + p.vy * t])))
+                 for p in self._people_now()]
+        close = [(p, d) for p, d in close if d < self._keep_out(p)]
+        if not close:
+            return ZERO_TWIST
+        p = min(close, key=lambda c: c[1])[0]
+        away = here - [p.x, p.y]
+        away /= max(float(np.hypot(*away)), 1e-9)
+        prefer = away
+        if math.hypot(p.vx, p.vy) > WALKING:
+            side = np.array([-p.vy, p.vx])
+            prefer = side if side @ away >= 0 else -side
+        grid = self.local_costmap.without_people()
+        steps = np.arange(0.05, EVADE_LOOK + 1e-9, 0.05)
+        a0 = math.atan2(prefer[1], prefer[0])
+        for da in EVADE_FAN:
+            u = np.array([math.cos(a0 + da), math.sin(a0 + da)])
+            if u @ away < -0.1:
+                continue  # never towards them
+            path = here + steps[:, None] * u
+            if np.all(grid.cost_at(path[:, 0], path[:, 1], outside=0) < INSCRIBED):
+                c, s = math.cos(odom.yaw), math.sin(odom.yaw)
+                return Twist(EVADE_SPEED * (c * u[0] + s * u[1]), EVADE_SPEED * (-s * u[0] + c * u[1]), 0.0)
+        return ZERO_TWIST
 
     def _progressing(self, pose: Pose2D, now: float) -> bool:
         """Nav2's SimpleProgressChecker: moving ``progress_radius`` from the last checkpoint
@@ -378,9 +431,12 @@ class Navigator:
         return True
 
     def _only_people_block(self, pose: Pose2D) -> bool:
-        """With people about, would there be a plan once they stepped aside?"""
+        """With people about, would there be a plan once they stepped aside (or is the robot in
+        a person's keep-out, so that no plan can start)?"""
         if not self._people_in_map():
             return False
+        if self._person_close():
+            return True
         try:
             self.planner.plan(self.global_costmap.without_people(), (pose.x, pose.y), (self.goal.x, self.goal.y))
         except PlanningError:
@@ -397,10 +453,12 @@ class Navigator:
             vx, vy, wz = self.controller.compute((odom.x, odom.y, odom.yaw), (tw.vx, tw.vy, tw.wz), path,
                                                  (goal.x, goal.y, goal.yaw), self.local_costmap.grid)
         except NoValidControl as exc:
-            if self.io.held() or self._person_close():  # someone close: wait for them, never back off
-                self.io.publish(ZERO_TWIST, now)  # into whoever is behind
-                if not self.io.held():
-                    self._hold(now, dt, "a person close by")
+            if self.io.held():  # someone close: wait for them, never back off into whoever is behind
+                self.io.publish(ZERO_TWIST, now)
+                return
+            if self._person_close():  # a person's keep-out: out of their way, not a recovery
+                if not self._hold(now, dt, "a person close by"):
+                    self.io.publish(self._evade(), now)
                 return
             self._start_recovery(now, str(exc))
             return
@@ -488,3 +546,11 @@ class Navigator:
         self.smoother.reset()
         self.io.publish(ZERO_TWIST, now)
         log.info("navigation %s%s after %.1f s", state.value, f" ({reason})" if reason else "", now - self._start)
+
+
+def _to_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
+    """Distance from ``p`` to the segment ``a``-``b``."""
+    ab = b - a
+    n = float(ab @ ab)
+    t = 0.0 if n < 1e-12 else min(max(float((p - a) @ ab) / n, 0.0), 1.0)
+    return float(np.hypot(*(p - a - t * ab)))

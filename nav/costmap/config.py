@@ -27,10 +27,11 @@ class PersonLayerConfig(Strict):
     back as a distance, reads the distance past the keep-out; 0.25 m (cost 72) is as far as the
     critic's repulsion stays positive (it counts out to ``inflation_radius``)."""
     predict_time: float = Field(1.0, ge=0)
-    """A walker's next seconds of straight walking at its velocity are costly (252 at most,
-    never lethal), s: a path behind a crossing walker is preferred to one across its way, as
-    in Nav2's social layers, and a robot already in that stretch can still drive out of it. 1 s
-    is a walker's 1 m at walking speed, beyond which a straight line is a guess."""
+    """A walker's next seconds of straight walking at its velocity are kept out of like the
+    walker, s (Nav2's social layers stretch their costs the same way): a grower who does not
+    yield walks on into a robot that stepped into their way (the no-yield crossing scenario:
+    hit at 8 s with the stretch merely costly). 1 s is a walker's 1 m at walking speed, beyond
+    which a straight line is a guess."""
     min_confidence: float = Field(0.5, ge=0, le=1)
     """Tracks at least this confident count (the tracker reports anything the map and the known
     pots do not explain at 0.5: a person until shown otherwise)."""

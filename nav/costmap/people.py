@@ -10,7 +10,8 @@ with ``keep_out = radius + clearance + robot_radius``:
                                      ``clearance`` (0.3 m) of the person's
     d <= keep_out + gradient         int(252 exp(-k (d - keep_out))), the inflation's falloff
     along the predicted stretch      the same profile round the segment the person walks in the
-                                     next ``predict_time`` s, capped at 252: costly, never lethal
+                                     next ``predict_time`` s: the robot does not step into a
+                                     walker's way (one who does not yield walks on into it)
 
 The layer comes after inflation, not before: its keep-out already counts the robot's inscribed
 radius, and inflating a person's disc would add the 0.22 m again. A cell the master does not
@@ -34,7 +35,7 @@ from nav.costmap.grid import INSCRIBED, LETHAL, UNKNOWN
 from nav.frames import compose
 from nav.grid_geometry import GridGeometry
 
-#: The highest cost below inscribed: the predicted stretch and the falloff's start.
+#: The highest cost below inscribed: the falloff's start.
 HIGHEST = INSCRIBED - 1
 
 
@@ -96,7 +97,7 @@ class PersonLayer:
         span = vx * vx + vy * vy
         if span > (res * res):
             t = np.clip((dx * vx + dy * vy) / span, 0.0, 1.0)
-            ahead = np.minimum(self._profile(np.hypot(dx - t * vx, dy - t * vy), r), HIGHEST)
+            ahead = self._profile(np.hypot(dx - t * vx, dy - t * vy), r)
             cost = np.maximum(cost, ahead)
         return (slice(y0, y1), slice(x0, x1)), cost
 

@@ -6,6 +6,8 @@ person who comes up to the robot makes it wait, not back off; with nobody about 
 fails 'no path' as quickly as before."""
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from hw.interfaces import ZERO_TWIST, LidarScan, Twist
@@ -36,6 +38,13 @@ def one_aisle(closed: bool = False) -> np.ndarray:
     return occ
 
 
+class LocalCostmap(FakeCostmap):
+    """The fake local costmap, open floor with people taken out too."""
+
+    def without_people(self):
+        return self.grid
+
+
 class Rig:
     def __init__(self, people=(), closed=False, controller=None):
         self.people = list(people)
@@ -45,7 +54,7 @@ class Rig:
                      lambda: False, lambda: False, lambda: self.people)
         self.glob = global_costmap(CFG.costmap, lambda: self.people)
         self.glob.set_static(one_aisle(closed), RES, 0.0, 0.0)
-        self.local = FakeCostmap()
+        self.local = LocalCostmap()
         self.nav = Navigator(CFG, io, OdometryOnly(), self.local, self.glob, NavfnPlanner(CFG.planner),
                              controller or FakeController())
 
@@ -100,12 +109,26 @@ def test_a_person_on_the_goal_is_waited_for_at_a_distance():
     assert all(tw == ZERO_TWIST for _, tw in rig.published)
 
 
-def test_a_person_who_comes_up_to_the_robot_is_waited_for_not_backed_away_from():
-    rig = Rig([Person(10, START.x + 0.3, START.y - 0.5, 0.0, 0.0, 0.2, 0.9)], controller=FakeController(fail=True))
+def test_a_person_who_comes_up_to_the_robot_is_stepped_away_from_not_a_recovery():
+    person = Person(10, START.x + 0.3, START.y - 0.5, 0.0, 0.0, 0.2, 0.9)
+    rig = Rig([person], controller=FakeController(fail=True))
     rig.nav.navigate_to(GOAL, 0.0, timeout=60.0)
     rig.run(12.0)
     assert rig.nav.active and rig.local.clears == 0 and rig.nav.state is State.FOLLOWING
-    assert all(tw == ZERO_TWIST for _, tw in rig.published)
+    steps = [tw for _, tw in rig.published if tw != ZERO_TWIST]
+    assert steps
+    away = np.array([START.x - person.x, START.y - person.y])
+    for tw in steps:  # the robot faces +x: body frame is odom's
+        assert math.hypot(tw.vx, tw.vy) <= 0.15 + 1e-9 and np.array([tw.vx, tw.vy]) @ away > 0
     rig.people.clear()
     rig.run(20.0, t0=12.05)
     assert rig.local.clears >= 1  # with nobody there, no valid control is a recovery again
+
+
+def test_a_walker_coming_across_is_stepped_aside_from_not_backed_along_its_way():
+    walker = Person(11, START.x, START.y + 1.0, 0.0, -0.8, 0.2, 0.9)  # 1 m north, walking south at it
+    rig = Rig([walker], controller=FakeController(fail=True))
+    rig.nav.navigate_to(GOAL, 0.0, timeout=60.0)
+    rig.run(0.5)
+    tw = rig.published[-1][1]
+    assert abs(tw.vx) > 0.1 and abs(tw.vy) < 0.05  # along x, out of its way south

@@ -36,11 +36,12 @@ def test_a_standing_person_is_lethal_to_the_keep_out_then_falls_off_then_nothing
     assert cost(cm, KEEP_OUT + 0.35, 0.0) == 0
 
 
-def test_a_walker_makes_its_next_second_costly_but_not_lethal_and_nothing_behind():
+def test_a_walker_keeps_the_robot_out_of_its_next_second_and_nothing_behind():
     walker = Person(id=2, x=0.0, y=0.0, vx=0.0, vy=0.8, radius=0.2, confidence=0.9)
-    cm = local_costmap(CFG.costmap, lambda: [walker])
-    ahead = cost(cm, 0.0, KEEP_OUT + 0.5)  # 0.5 m further along its way: inside the 0.8 m stretch
-    assert 200 <= ahead < LETHAL
+    cm = global_costmap(CFG.costmap, lambda: [walker])
+    cm.set_static(np.zeros((120, 120), np.int8), 0.05, -3.0, -3.0)  # open, explored floor
+    assert cost(cm, 0.0, KEEP_OUT + 0.7) == LETHAL  # 0.7 m further along its way: inside the 0.8 m stretch
+    assert 72 <= cost(cm, 0.0, KEEP_OUT + 0.9) < LETHAL  # past it: the falloff
     assert cost(cm, 0.0, -(KEEP_OUT + 0.5)) == 0  # as far behind it: free
 
 
