@@ -5,25 +5,31 @@ then the stop, slowdown and approach verdict on a twist), on real MuJoCo scans o
 greenhouse taken at poses along the aisles, with a person standing in the aisle ahead in half
 of them, for forward, sideways and turning twists: median and p95 per scan (goal <= 0.5 ms).
 
-``safety.people``: whole patrols of generated greenhouses (4 rows x 5 pots, four aisles) with ``WALKERS``
-people walking the aisles, seed after seed, until at least ``MIN_ENCOUNTERS`` encounters (a
-stretch of the monitor stopping or slowing the base, the report's ``people``) have been
-counted; every patrol counts. Judged on ground truth (``mission.jobs.people_log``): contacts
-(goal 0) and the least body-to-body clearance to any walker (goal >= 0.2 m); the time lost per
-encounter (median, p95: the withheld share of the commanded speed, integrated); patrol success
-(every pot inspected and read right, as ``patrol.generated`` judges; goal 1.0); and each
-patrol's robot time (the empty greenhouse's is ``patrol.generated``'s).
+``safety.people``: whole patrols of generated greenhouses (6 rows x 4 pots) with ``WALKERS``
+people in the mix ``lupin sim generate --walkers`` makes (sim.generate.ROLES: a third do not
+yield, cart pushers, a worker standing and one crouching by the east wall), seed after seed,
+until at least ``LUPIN_BENCH_PEOPLE_ENCOUNTERS`` (default ``MIN_ENCOUNTERS``) person encounters
+have been counted; every patrol counts. An encounter is a walker within 1.0 m of the robot's
+body on ground truth (``mission.jobs.people_log``), not a collision-monitor hold: issue 28
+found the holds for pots and walls counted as people. Judged on ground truth: contacts while
+the robot moves (goal 0); the least body-to-body clearance while it moves (goal >= 0.25 m) and
+the 5th percentile of each encounter's; the time lost per encounter (median, p95: the
+collision monitor's withheld share of the commanded speed, integrated over the encounter);
+patrol success (every pot inspected and read right, as ``patrol.generated`` judges; goal
+>= 0.98); and each patrol's robot time beside the same world's without walkers.
 """
 from __future__ import annotations
 
 import math
+import os
 import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 
-from hw.collision_monitor import CollisionMonitor
+from hw.collision_monitor import NONE, CollisionMonitor
+from hw.errors import InputError
 from hw.interfaces import Twist
 from lupin.bench import Sample, benchmark
 from lupin.bench.patrol import correct_pots
@@ -39,11 +45,14 @@ POSES = [(x, y, yaw) for x in (2.5, 3.5, 4.5) for y, yaw in ((0.5, 0.0), (2.5, m
 TWISTS = [Twist(0.4, 0.0, 0.0), Twist(0.0, 0.3, 0.0), Twist(0.3, 0.1, 0.6), Twist(0.1, 0.0, 0.0)]
 REPEATS = 50
 
-WALKERS = 3
-MIN_ENCOUNTERS = 100
-MAX_WORLDS = 40
-"""Seeds tried at most (a run that cannot reach MIN_ENCOUNTERS says so rather than running on)."""
-ROWS, PER_ROW = 4, 5
+WALKERS = 6
+"""One per aisle of the 6-row greenhouse: one turn of ``sim.generate.ROLES``, so a third do not yield."""
+MIN_ENCOUNTERS = 200
+"""Person encounters to count, unless ``ENCOUNTERS_ENV`` says otherwise (a quick look: 30)."""
+ENCOUNTERS_ENV = "LUPIN_BENCH_PEOPLE_ENCOUNTERS"
+MAX_WORLDS = 100
+"""Seeds tried at most (a run that cannot reach the count says so rather than running on)."""
+ROWS, PER_ROW = 6, 4
 
 
 @benchmark("safety.collision_monitor")
@@ -52,7 +61,7 @@ def collision_monitor(config: LupinConfig) -> Sample:
     scans = []
     for k, (x, y, yaw) in enumerate(POSES):
         ahead = (x + 0.6 * math.cos(yaw), y + 0.6 * math.sin(yaw))
-        walkers = [Walker(id="W1", path=[list(ahead), [ahead[0] + 0.01, ahead[1]]], speed=0.2, start=1e9)] if k % 2 else []
+        walkers = [Walker(id="W1", path=[list(ahead)])] if k % 2 else []  # a worker standing there
         w = world.model_copy(update={"walkers": walkers, "spawn": world.spawn.model_copy(update={"x": x, "y": y, "yaw": yaw})})
         sim = SimRobot(w, config.sim, config.hw)
         sim.engine.advance_to(0.25)
@@ -76,7 +85,9 @@ def collision_monitor(config: LupinConfig) -> Sample:
 def _patrol(world: World, config: LupinConfig) -> tuple[dict, PeopleLog]:
     with tempfile.TemporaryDirectory() as tmp:
         run = start_sim_patrol(world, mission_from_world(world), config, Path(tmp) / "report.json", time.perf_counter)
-        people = PeopleLog(run.sim.sim).attach()
+        monitor = run.robot.monitor
+        people = PeopleLog(run.sim.sim, config.arm.kinematics,
+                           lambda: 0.0 if monitor.verdict.action == NONE else 1.0 - monitor.verdict.scale).attach()
         try:
             while not run.done:
                 run.step()
@@ -85,34 +96,52 @@ def _patrol(world: World, config: LupinConfig) -> tuple[dict, PeopleLog]:
             run.close()
 
 
+def _wanted() -> int:
+    text = os.environ.get(ENCOUNTERS_ENV)
+    if text is None:
+        return MIN_ENCOUNTERS
+    if not text.isdigit() or int(text) < 1:
+        raise InputError(f"{ENCOUNTERS_ENV}: must be a whole number of encounters, 1 or more (got {text!r})")
+    return int(text)
+
+
+def _pct(values: list[float], q: float) -> float | None:
+    return round(float(np.percentile(values, q)), 3) if values else None
+
+
 @benchmark("safety.people")
 def people(config: LupinConfig) -> Sample:
-    encounters, lost, clearances, robot_time = [], [], [], []
+    wanted = _wanted()
+    met, robot_time, empty_time, failed = [], [], [], []
     contacts = patrols = correct = pots = 0
-    failed = []
+    least = math.inf
     for seed in range(1, MAX_WORLDS + 1):
-        if len(encounters) >= MIN_ENCOUNTERS:
+        if len(met) >= wanted:
             break
         world = generate_world(ROWS, PER_ROW, seed, walkers=WALKERS)
         doc, log = _patrol(world, config)
         patrols += 1
-        found = doc.get("people", [])
-        encounters += found
-        lost += [e["lost_s"] for e in found]
-        clearances.append(log.clearance)
-        contacts += len(log.contacts.onsets)
+        met += log.encounters
+        least = min(least, log.clearance)
+        contacts += len(log.moving_contacts)
         right = correct_pots(world, doc)
         correct, pots = correct + right, pots + len(world.pots)
         if right < len(world.pots) or doc["outcome"] != "completed":
             failed.append({"seed": seed, "outcome": doc["outcome"], "correct": right, "pots": len(world.pots)})
         robot_time.append(doc["sim_time_s"])
-    lost_arr = np.asarray(lost) if lost else np.zeros(1)
-    return Sample([1000.0 * x for x in lost], {
-        "encounters": len(encounters), "patrols": patrols, "walkers_per_world": WALKERS,
-        "contacts": contacts, "min_clearance_m": round(float(min(clearances)), 3),
-        "median_clearance_m": round(float(np.median(clearances)), 3),
-        "lost_per_encounter_median_s": round(float(np.median(lost_arr)), 2),
-        "lost_per_encounter_p95_s": round(float(np.percentile(lost_arr, 95)), 2),
-        "patrol_time_median_s": round(float(np.median(robot_time)), 1),
-        "patrol_time_p95_s": round(float(np.percentile(robot_time, 95)), 1),
-        "success_rate": round(correct / pots, 4) if pots else 0.0, "patrols_not_all_correct": failed})
+        empty_time.append(_patrol(world.model_copy(update={"walkers": []}), config)[0]["sim_time_s"])
+    nearest = [e["nearest_moving_m"] for e in met if e["nearest_moving_m"] is not None]
+    lost = [e["lost_s"] for e in met]
+    extra = [a - b for a, b in zip(robot_time, empty_time)]
+    return Sample([], {
+        "encounters": len(met), "encounters_wanted": wanted, "patrols": patrols, "walkers_per_world": WALKERS,
+        "not_yielding_per_world": sum(not w.yields for w in generate_world(ROWS, PER_ROW, 1, walkers=WALKERS).walkers),
+        "contacts_while_moving": contacts,
+        "min_clearance_while_moving_m": None if math.isinf(least) else round(float(least), 3),
+        "clearance_p5_m": _pct(nearest, 5), "encounters_met_moving": len(nearest),
+        "lost_per_encounter_median_s": _pct(lost, 50), "lost_per_encounter_p95_s": _pct(lost, 95),
+        "success_rate": round(correct / pots, 4) if pots else 0.0,
+        "patrol_time_median_s": _pct(robot_time, 50), "patrol_time_p95_s": _pct(robot_time, 95),
+        "empty_patrol_time_median_s": _pct(empty_time, 50),
+        "extra_time_per_patrol_median_s": _pct(extra, 50), "extra_time_per_patrol_p95_s": _pct(extra, 95),
+        "patrols_not_all_correct": failed})

@@ -74,7 +74,8 @@ class PeopleLog:
         self.least_any = math.inf
         """The least clearance at any moment, the robot standing included (for the record)."""
         self.encounters: list[dict] = []
-        """Every walker within ``NEAR``: walker, t (sim time), x, y (robot), nearest_m, lost_s."""
+        """Every walker within ``NEAR``: walker, t (sim time), x, y (robot), nearest_m (at any moment),
+        nearest_moving_m (while the robot moved; None: it stood throughout), lost_s."""
         self._open: dict[str, dict] = {}
         self._trail: deque[tuple[float, float, float, float]] = deque()
         self._last: float | None = None
@@ -99,7 +100,7 @@ class PeopleLog:
             if moving and gap < self.min_clearance[walker]:
                 self.min_clearance[walker] = gap
                 self.close_at[walker] = (t, robot.x, robot.y)
-            self._encounter(walker, gap, t, dt, robot.x, robot.y, withheld)
+            self._encounter(walker, gap, moving, t, dt, robot.x, robot.y, withheld)
         before = len(self.contacts.onsets)
         self.contacts.sample(t)
         if moving:
@@ -121,15 +122,19 @@ class PeopleLog:
         c, s = math.cos(robot.yaw), math.sin(robot.yaw)
         return list(zip(robot.x + c * p[:, 0] - s * p[:, 1], robot.y + s * p[:, 0] + c * p[:, 1]))
 
-    def _encounter(self, walker: str, gap: float, t: float, dt: float, x: float, y: float, withheld: float) -> None:
+    def _encounter(self, walker: str, gap: float, moving: bool, t: float, dt: float, x: float, y: float,
+                   withheld: float) -> None:
         e = self._open.get(walker)
         if e is not None:
             e["lost_s"] += dt * withheld
         if gap < NEAR:
             if e is None:
-                e = self._open[walker] = {"walker": walker, "t": t, "x": x, "y": y, "nearest_m": gap, "lost_s": 0.0}
+                e = self._open[walker] = {"walker": walker, "t": t, "x": x, "y": y, "nearest_m": gap,
+                                          "nearest_moving_m": None, "lost_s": 0.0}
                 self.encounters.append(e)
             e["nearest_m"], e["_near"] = min(e["nearest_m"], gap), t
+            if moving:
+                e["nearest_moving_m"] = gap if e["nearest_moving_m"] is None else min(e["nearest_moving_m"], gap)
         elif e is not None and t - e["_near"] >= GAP:
             del self._open[walker]
 

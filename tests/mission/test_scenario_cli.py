@@ -65,6 +65,7 @@ def test_patrol_events_are_checked_before_the_robot_moves(tmp_path, capsys):
     ({"name": "x", "colour": "red"}, "top level: field 'colour': unknown key"),
     ({"name": "x", "expect": {"people": {"min_clearance": 0.2}}}, "expect: field 'people': the world 'default' has no walkers"),
     ({"name": "x", "expect": {"people": {"contacts": -1}}}, "field 'people.contacts': must be >= 0"),
+    ({"name": "x", "expect": {"people": {"encounters": -1}}}, "field 'people.encounters': must be >= 0"),
     ({"name": "x", "events": [{"at": 1, "do": "walker", "walker": "W1", "moving": False}]},
      "events[0] (do walker): field 'walker': the world has no walker 'W1' (walkers: none)"),
     (["name"], "top level: must be a mapping"),
