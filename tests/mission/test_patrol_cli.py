@@ -60,7 +60,8 @@ def test_a_short_patrol_runs_to_its_end_quietly_off_a_terminal(tmp_path, capsys)
     mission = short_mission(tmp_path / "m.yaml")
     report = tmp_path / "run" / "morning.json"
     assert main(["patrol", "--mission", str(mission), "--report", str(report), "--seed", "3"]) == 0
-    out = capsys.readouterr().out
+    first, out = capsys.readouterr().out.split("\n", 1)
+    assert first == "lupin patrol: sim backend, world 'default'"
     assert out.startswith("default-patrol: completed, 2/2 pots inspected")
     assert "pot 1 of 2" not in out  # no progress display when stdout is not a terminal
     doc = json.loads(report.read_text())
@@ -114,7 +115,7 @@ def test_sigterm_aborts_the_patrol_and_finishes_the_report(tmp_path):
     doc = json.loads(report.read_text())
     assert doc["outcome"] == "aborted" and doc["pots"][0]["status"] == "inspected"
     assert "skipped" in [p["status"] for p in doc["pots"]]
-    assert out.startswith("default-patrol: aborted, ")
+    assert out.split("\n", 1)[1].startswith("default-patrol: aborted, ")
 
 
 def test_the_summary_says_how_many_pots_were_not_inspected_and_why():

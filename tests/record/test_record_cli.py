@@ -17,7 +17,7 @@ def test_record_writes_run_mcap_beside_the_report(tmp_path, capsys):
     mission = short_mission(tmp_path / "m.yaml", ("P01",))
     report = tmp_path / "run" / "report.json"
     assert main(["patrol", "--mission", str(mission), "--report", str(report), "--seed", "3", "--record"]) == 0
-    assert capsys.readouterr().out.startswith("default-patrol: completed, 1/1 pots inspected")
+    assert capsys.readouterr().out.split("\n", 1)[1].startswith("default-patrol: completed, 1/1 pots inspected")
     doc = json.loads(report.read_text())
     rec = read_mcap(report.parent / "run.mcap")
     assert set(rec.topics) == set(EXPECTED_SCHEMAS)
