@@ -31,7 +31,7 @@ def patrol_and_check(tmp_path, url: str) -> None:
     h = open_history(url)
     earlier = utc_now() - timedelta(days=1)
     seeded = [obs("P01", bug=True, color="white", blooms=3), obs("P02", status="failed", anomalies=("unreachable",))]
-    previous = add_patrol(h, seeded, mission=m.name, started=earlier)
+    previous = add_patrol(h, seeded, mission=m.name, started=earlier, world=load_default_world().name)  # the same greenhouse
     report = tmp_path / "run" / "report.json"
     code = main(["patrol", "--mission", str(mission_file), "--report", str(report), "--history", url, "--seed", "0"])
     doc = json.loads(report.read_text())
