@@ -191,7 +191,8 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
     holds = MonitorHolds(lambda: robot.monitor.verdict, nav.map_pose, report.t0)
     report.observers.append(holds)
     robot.scheduler.every("patrol.holds", HOLDS_RATE, holds.tick)
-    people = PersonEncounters(nobody, lambda: robot.base.odometry.pose, lambda: robot.monitor.verdict, report.t0,
+    tracked = robot.people.watch([(p.x, p.y) for p in mission.pots], config.patrol.pot_radius) if robot.people else nobody
+    people = PersonEncounters(tracked, lambda: robot.base.odometry.pose, lambda: robot.monitor.verdict, report.t0,
                               config.nav.costmap.robot_radius)
     report.observers.append(people)  # the tracker's engineer passes its PeopleSource here instead of nobody
     robot.scheduler.every("patrol.people", HOLDS_RATE, people.tick)

@@ -10,6 +10,7 @@ autonomy goes through the same arbitration and e-stop as a human. The map SLAM h
 from __future__ import annotations
 
 from hw.errors import InputError
+from mission.runtime.people import attach_people
 from mission.runtime.robot import Robot
 from mission.runtime.scheduler import Scheduler
 from nav.amcl.localisation import AmclLocalisation
@@ -38,15 +39,17 @@ def attach_navigation(robot: Robot, localisation: Localisation | None = None) ->
     base = robot.base
     scan = robot.hal.lidar.latest_scan
     odom_pose = lambda: base.odometry.pose  # noqa: E731
+    people = attach_people(robot, lambda: localisation.map_to_odom(), lambda: getattr(localisation, "occupancy", None))
     sources = Sources(
         odom_pose=odom_pose,
         odom_twist=lambda: base.odometry.twist,
         scan=scan,
         publish=lambda twist, now: robot.mux.publish(AUTO, twist, now),
         estop=robot.estop.engaged,
-        held=lambda: robot.monitor.verdict.holding,
+        held=lambda: robot.monitor.verdict.holding or people.guard.verdict.holding,
+        people=people.confident,
     )
-    gcm = global_costmap(cfg.costmap)
+    gcm = global_costmap(cfg.costmap, people.confident, lambda: localisation.map_to_odom())
 
     def static_map(m: OccupancyMap) -> None:
         gcm.set_static(m.occupancy, m.resolution, m.origin_x, m.origin_y)
@@ -54,7 +57,7 @@ def attach_navigation(robot: Robot, localisation: Localisation | None = None) ->
     localisation = localisation or get_localisation(cfg, odom_pose, scan, static_map, robot.hal.clock.deterministic)
     readiness = Readiness({"scans": lambda: scan() is not None, "map": localisation.has_map,
                            "transform": localisation.ready}, cfg.navigator.readiness_timeout)
-    nav = Navigator(cfg, sources, localisation, local_costmap(cfg.costmap), gcm, NavfnPlanner(cfg.planner),
+    nav = Navigator(cfg, sources, localisation, local_costmap(cfg.costmap, people.confident), gcm, NavfnPlanner(cfg.planner),
                     MppiController(cfg.mppi, cfg.costmap), readiness)
     sched = robot.scheduler
     sched.every("nav.localisation", localisation.rate, localisation.tick)

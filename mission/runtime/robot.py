@@ -24,7 +24,7 @@ from __future__ import annotations
 import logging
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 from arm.controller import ArmController
 from arm.outline import arm_capsules
@@ -42,6 +42,9 @@ from hw.power_policy import PowerWatch
 from hw.twist_mux import TwistMux
 from mission.runtime.config import LupinConfig
 from mission.runtime.scheduler import Scheduler
+
+if TYPE_CHECKING:
+    from mission.runtime.people import People
 
 log = logging.getLogger("lupin")
 
@@ -73,6 +76,8 @@ class Robot:
     mission_state: Callable[[], str | None] = lambda: None
     """The mission's state for the status strip ('running', 'paused', 'done', 'failed' or None:
     no mission); a patrol sets it, the robot only reads it."""
+    people: "People | None" = None
+    """The person tracker's runtime (``mission.runtime.people``), once navigation is attached."""
 
     def close(self) -> None:
         for close in self.closers:
