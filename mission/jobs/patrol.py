@@ -85,7 +85,7 @@ class PatrolRun:
     def done(self) -> bool:
         if self._crash_at is not None:
             return self.robot.scheduler.clock.now() >= self._crash_at + RESTART_WATCH_S
-        return self.tree.root.status in (Status.SUCCESS, Status.FAILURE)
+        return bool(self.tree.lidar.given_up) or self.tree.root.status in (Status.SUCCESS, Status.FAILURE)
 
     def crash(self, now: float) -> None:
         """The runtime dies mid-patrol and its service starts it again (sim, ``runtime_crash``):
@@ -106,7 +106,7 @@ class PatrolRun:
         return "paused" if holds.paused or holds.latched else "running"
 
     def outcome(self) -> str:
-        if self.crashed:
+        if self.crashed or self.tree.lidar.given_up:
             return "aborted"
         if self.tree.battery_low:
             return "battery_low"
@@ -148,6 +148,8 @@ class PatrolRun:
             extra["events"] = self.events.applied
         if reason or self.crashed or self.tree.root.status is Status.FAILURE:
             extra["reason"] = reason or self.crashed or self.tree.failure()
+        elif self.tree.lidar.given_up:
+            extra["reason"] = self.tree.lidar.given_up
         return self.report.finish(outcome, **extra)
 
     def picture(self, occupancy: OccupancyMap | None) -> np.ndarray:
@@ -196,7 +198,8 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
                               config.nav.costmap.robot_radius)
     report.observers.append(people)  # the tracker's engineer passes its PeopleSource here instead of nobody
     robot.scheduler.every("patrol.people", HOLDS_RATE, people.tick)
-    faults = Faults({"lidar_blind": lambda: robot.monitor.fault == LIDAR_BLIND}, report.t0)
+    faults = Faults({"lidar_blind": lambda: robot.monitor.fault == LIDAR_BLIND,
+                     "lidar_lost": lambda: tree.lidar.lost_for() is not None}, report.t0)
     report.observers.append(faults)
     robot.scheduler.every("patrol.faults", FAULT_RATE, faults.tick)
     run = PatrolRun(robot, nav, tree, report, close, history=recorder)

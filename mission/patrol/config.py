@@ -78,6 +78,14 @@ class PatrolConfig(BaseModel):
     read the same tags over and over. A 1.5 m read range sees each plate from several places."""
     watch_turn: float = Field(0.25, gt=0)
     """... or turned this much, rad."""
+    lidar_lost_after: float = Field(3.0, gt=0)
+    """Seconds without a trustworthy scan (stale or blind) before the patrol pauses with fault
+    ``lidar_lost`` (``mission.patrol.lidar_loss``): longer than a sun glint or a hand over the
+    lidar, which the collision monitor rides out on its own, short enough that no goal is spent."""
+    lidar_lost_give_up: float = Field(300.0, gt=0)
+    """Seconds of a lost lidar after which the patrol ends ``aborted``, the rest ``skipped``:
+    five minutes covers a cable reseated or a driver restarted by its service; past that someone
+    has to come, and the report should say so rather than wait all day."""
     discovered_max_distance: float = Field(1.5, gt=0)
     """Tags seen en route are placed on the map only when read nearer than this, m: further
     away the pose from a 10 cm tag is too coarse to say which pot it is on."""

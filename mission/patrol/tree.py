@@ -3,6 +3,7 @@
 ::
 
     Lupin patrol                              Hold: while the e-stop is engaged or latched
+      lidar lost                                Hold: no trustworthy scan for 3 s (mission.patrol.lidar_loss)
       operator pause                            Hold: while the operator has paused
         mission                                   Selector, priorities re-checked every tick
           battery low                               Sequence: power-low (latched) > go home
@@ -43,7 +44,9 @@ and holds the arm, and nothing moves again until the operator's ``resume`` after
 Then the tree is ticked again: ``OneShot`` keeps the start-up gate and every finished pot done,
 so the patrol continues with the pot in progress, from its approach. Power-low aborts the
 patrol for the trip home (outcome ``battery_low``); a pause holds like the e-stop but needs no
-release. A paused robot does not drive home on power-low until resumed: the operator who paused
+release. A lost lidar (no trustworthy scan for ``patrol.lidar_lost_after``) holds the same way
+until scans return, and past ``patrol.lidar_lost_give_up`` ends the patrol ``aborted``
+(``mission.patrol.lidar_loss``). A paused robot does not drive home on power-low until resumed: the operator who paused
 it is in charge.
 
 Pots are found where they are (``mission.patrol.pot_finder``): the tag read at arrival places
@@ -83,6 +86,7 @@ from hw.interfaces import Clock
 from hw.odometry import Pose2D
 from mission.patrol.config import PatrolConfig
 from mission.patrol.holds import MissionHolds
+from mission.patrol.lidar_loss import LidarLoss
 from mission.patrol.mission_file import Mission, MissionPot
 from mission.patrol.pot_finder import PotFinder
 from mission.patrol.visit_order import visit_order
@@ -139,6 +143,8 @@ class PatrolTree:
         self.visits = {p.id: PotVisit(p.id) for p in self.order}
         if self.holds is None:
             self.holds = MissionHolds(self.robot.estop, self.clock.now, self.report.t0)
+        self.lidar = LidarLoss(lambda: self.robot.monitor.untrusted_since, self.clock.now,
+                               self.config.lidar_lost_after, self.config.lidar_lost_give_up)
         self.root = self._build()
 
     @property
@@ -241,7 +247,8 @@ class PatrolTree:
         battery = Sequence("battery low", memory=True, children=[Check("battery low?", self._battery_low),
                                                                   self._finish("go home")])
         mission = Selector("mission", memory=False, children=[battery, patrol])
-        return Hold("Lupin patrol", Hold("operator pause", mission, self.holds.pause_reason), self.holds.estop)
+        paused = Hold("operator pause", mission, self.holds.pause_reason)
+        return Hold("Lupin patrol", Hold("lidar lost", paused, self.lidar.reason), self.holds.estop)
 
     def _pot(self, pot: MissionPot, later: bool = False) -> Behaviour:
         """The pot's branch; ``later``: its second go, after the other pots, taken only when the
