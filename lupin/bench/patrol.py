@@ -9,8 +9,10 @@ mecanum base's strafe buys, in robot time. ``patrol.generated``: 20 generated gr
 carries its tag, its flower colour and its pest flag as the world file has them.
 ``patrol.large``: a generated two-bay greenhouse of 180 pots (36 x 7 m, a divider wall with
 doorways), once in each visit order (``shortest``, ``nearest``, ``as_listed``): the real-time
-factor, pots per minute, peak memory and success of the ``shortest`` run, and each order's
-distance driven. ``runtime.cpu``: the runtime's CPU per robot-second (``lupin.bench.meter``) on
+factor, pots per minute, peak memory and success of the ``shortest`` run, its ``moved`` reports
+and the false ones among them (no pot of this world was moved, so every one is false: goal 0,
+issue 29 item 5, judged by ``lupin.bench.moved_judge``), and each order's distance driven and
+false ``moved``. ``runtime.cpu``: the runtime's CPU per robot-second (``lupin.bench.meter``) on
 the default and the large patrol. ``slam.scale``: SLAM's per-scan cost over the large patrol,
 the last tenth against the first, the pose-graph solves and the kept scans' memory. The three
 share their patrols within one ``lupin bench`` process.
@@ -23,6 +25,7 @@ from pathlib import Path
 
 from lupin.bench import Sample, benchmark
 from lupin.bench.meter import PatrolMeter
+from lupin.bench.moved_judge import judge_report
 from mission.jobs.back_to_back import run_patrols
 from mission.jobs.sim_patrol import start_sim_patrol
 from mission.jobs.sim_serve import start_sim_service
@@ -109,12 +112,22 @@ def default(config: LupinConfig) -> Sample:
 def large(config: LupinConfig) -> Sample:
     world = large_world()
     runs = {order: cached(("large", order), lambda o=order: metered_patrol(world, config, o)) for order in ORDERS}
+    return large_figures(world, runs)
+
+
+def large_figures(world: World, runs: dict[str, tuple[dict, float, dict]]) -> Sample:
+    """``patrol.large``'s figures from one ``metered_patrol`` of ``world`` per order of
+    ``ORDERS``; no pot of ``world`` was moved, so every ``moved`` report is false."""
     doc, wall, cost = runs["shortest"]
     inspected = sum(p["status"] == "inspected" for p in doc["pots"])
     sim = doc["sim_time_s"]
+    moved = {order: judge_report(runs[order][0], world, set()) for order in ORDERS}
     return Sample([wall * 1000.0], {
         "pots": len(world.pots), "floor_m": [world.floor.x, world.floor.y], "outcome": doc["outcome"],
         "inspected": inspected, "success_rate": round(correct_pots(world, doc) / len(world.pots), 4),
+        "moved_reported": moved["shortest"]["reported"], "false_moved": len(moved["shortest"]["false"]),
+        "false_moved_pots": moved["shortest"]["false"],
+        "false_moved_by_order": {order: len(moved[order]["false"]) for order in ORDERS},
         "wall_time_s": round(wall, 1), "sim_time_s": round(sim, 1), "rtf": round(sim / wall, 2),
         "pots_per_min": round(inspected / (sim / 60.0), 3), "peak_rss_mb": cost["peak_rss_mb"],
         "slam_worker_peak_rss_mb": cost["slam_worker_peak_rss_mb"],

@@ -12,11 +12,6 @@ time and distance (and per pot), wall time.
 --survey``), in generated greenhouses (seeds 1..5); a world pot is right when the patrol
 inspected the mission pot carrying its tag and read its tag, flower colour and pest as the world
 file has them (``patrol.generated``'s rule).
-
-``patrol.moved``: generated greenhouses (seeds 1..5) whose pots were moved 0.05-0.25 m and turned
-up to 0.3 rad (``sim.generate.moved_pots``, five a world) after the mission was written: success
-rate as above (against the moved world), and each ``moved`` anomaly's measured position against
-where the pot is; a moved pot the patrol did not report is counted too.
 """
 from __future__ import annotations
 
@@ -29,15 +24,14 @@ import numpy as np
 
 from hw.odometry import Pose2D
 from lupin.bench import Sample, benchmark
-from lupin.bench.patrol import correct_pots
+from lupin.bench.moved_judge import true_poses
 from mission.jobs.patrol import run_to_end as patrol_to_end
 from mission.jobs.sim_patrol import start_sim_patrol
 from mission.jobs.sim_survey import start_sim_survey
 from mission.jobs.survey import run_to_end
-from mission.patrol.mission_file import Mission, mission_from_world
+from mission.patrol.mission_file import Mission
 from mission.runtime.config import LupinConfig
-from nav.frames import compose, inverse
-from sim.generate import generate_world, moved_pots
+from sim.generate import generate_world
 from sim.world import World, load_default_world
 
 SEEDS = range(1, 6)
@@ -46,14 +40,12 @@ BAYS = (2, 4, 8)
 """bays, rows, pots per row of ``survey.generated``'s two-bay greenhouse."""
 MATCH = 0.3
 """A mission pot within this of the world pot carrying its tag counts as that pot, m."""
-MOVED = 5
-"""Pots moved in each of ``patrol.moved``'s greenhouses."""
 
 
 def _in_map(world: World) -> dict[int, Pose2D]:
     """The world's pots by tag, in the map frame (the dock at the origin)."""
-    dock = inverse(Pose2D(world.spawn.x, world.spawn.y, world.spawn.yaw))
-    return {p.tag: compose(dock, Pose2D(p.x, p.y, p.facing)) for p in world.pots if p.tag is not None}
+    poses = true_poses(world)
+    return {p.tag: poses[p.id] for p in world.pots if p.tag is not None}
 
 
 def judge_survey(world: World, mission: Mission) -> dict:
@@ -137,33 +129,3 @@ def patrol_surveyed(config: LupinConfig) -> Sample:
     right = sum(r.get("patrol_right", 0) for r in runs)
     return Sample([r["wall_s"] * 1000.0 for r in runs], {
         "pots": pots, "correct": right, "success_rate": round(right / pots, 4), "survey": _figures(runs)})
-
-
-@benchmark("patrol.moved")
-def patrol_moved(config: LupinConfig) -> Sample:
-    walls, pots, right, errors, reported, missed = [], 0, 0, [], 0, []
-    for seed in SEEDS:
-        world = generate_world(ROWS, PER_ROW, seed)
-        mission = mission_from_world(world)
-        moved = moved_pots(world, seed, MOVED)
-        shifted = {p.id for p, q in zip(world.pots, moved.pots) if (p.x, p.y, p.facing) != (q.x, q.y, q.facing)}
-        truth = _in_map(moved)
-        tags = {p.id: p.tag for p in moved.pots}
-        t0 = time.perf_counter()
-        with tempfile.TemporaryDirectory() as tmp:
-            doc = patrol_to_end(start_sim_patrol(moved, mission, config, Path(tmp) / "r.json", time.perf_counter))
-        walls.append((time.perf_counter() - t0) * 1000.0)
-        pots += len(moved.pots)
-        right += correct_pots(moved, doc)
-        for a in doc["anomalies"]:
-            if a["kind"] == "moved":
-                t = truth[tags[a["pot"]]]
-                errors.append(math.hypot(a["x"] - t.x, a["y"] - t.y))
-                reported += a["pot"] in shifted
-        missed += [f"{seed}/{p}" for p in sorted(shifted - {a["pot"] for a in doc["anomalies"] if a["kind"] == "moved"})]
-    e = np.array(errors)
-    return Sample(walls, {
-        "pots": pots, "correct": right, "success_rate": round(right / pots, 4), "moved_pots": MOVED * len(SEEDS),
-        "moved_reported": len(errors), "moved_reported_of_moved": reported, "moved_not_reported": missed,
-        "moved_error_median_m": round(float(np.median(e)), 4) if len(e) else None,
-        "moved_error_max_m": round(float(e.max()), 4) if len(e) else None})
