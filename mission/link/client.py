@@ -20,7 +20,7 @@ import numpy as np
 import zenoh
 
 from mission.link.server import session_config
-from mission.link.view import GridView, PotView, RobotView
+from mission.link.view import GridView, PersonView, PotView, RobotView
 from mission.link.wire import Grid, apply_grid, cmd_key, dumps, tel_key
 
 STALE_S = 1.0
@@ -90,6 +90,7 @@ class LinkClient:
             v.battery_percentage = b["percentage"] if b["percentage"] is not None else float("nan")
             v.battery_current = b["current"] if b.get("current") is not None else float("nan")
             v.battery_low = b["low"]
+            v.people = [PersonView.row(r) for r in m.get("people", ())]  # left out: nobody tracked
         elif topic == "nav":
             v.nav_state, v.nav_reason = m["state"], m["reason"]
             v.goal = tuple(m["goal"]) if m["goal"] else None

@@ -3,7 +3,9 @@
 =========  =========  ==========================================================================
 topic      beat       content
 =========  =========  ==========================================================================
-state      fast 10Hz  pose (map), velocity, active mux source, e-stop (engaged, latched), battery
+state      fast 10Hz  pose (map), velocity, active mux source, e-stop (engaged, latched), battery,
+                      and ``people`` while the tracker follows anyone (``PERSON_FIELDS``, map
+                      frame; the key is left out when nobody is tracked)
 nav        slow 2Hz   navigation state and reason, goal, the plan (every 4th point)
 mission    slow 2Hz   mission state, name, current step, pots done / total, outcome
 tree       slow 2Hz   py_trees' unicode tree with statuses, zlib'd UTF-8, when it changed (and
@@ -28,11 +30,19 @@ import zlib
 
 import numpy as np
 
+from hw.odometry import Pose2D
+from hw.people import Person
 from mission.link.outbox import Outbox
 from mission.link.wire import Grid, GridSender, dumps, tel_key
+from nav.frames import transform_points
 
 TREE_KEYFRAME = 10
 """The tree text is sent when it changes and every 10th slow beat (5 s) for late joiners."""
+PERSON_FIELDS = ("id", "x", "y", "vx", "vy", "radius", "confidence", "walked")
+"""One person on the wire, a list in this order: id, position (m) and velocity (m/s) in the map
+frame to the centimetre, body radius (m), the tracker's confidence (0..1, two decimals), and 1 if
+the distance rules act on them (they have walked, ``mission.runtime.people``), else 0. A list,
+not an object: about 40 bytes a person at 10 Hz, and nothing when nobody is there."""
 TOPICS = ("state", "nav", "mission", "tree", "pots", "status", "scan", "map", "costmap", "log")
 
 
@@ -66,6 +76,9 @@ class Telemetry:
                          "why": robot.estop.held_since_start},
                "battery": {"voltage": _r(volts, 2), "current": _r(amps, 2), "percentage": _r(power.state.percentage, 1),
                            "low": power.state.low}}
+        people = people_rows(robot.people, s.nav.localisation.map_to_odom)
+        if people:
+            msg["people"] = people
         self._post("state", lambda: dumps(msg))
 
     def slow(self, now: float) -> None:
@@ -132,6 +145,24 @@ class Telemetry:
         ok = np.isfinite(r)
         pts = np.stack([lx + r[ok] * np.cos(a[ok]), ly + r[ok] * np.sin(a[ok])], axis=1).astype(np.float16)
         self._post("scan", lambda: pts.tobytes())
+
+
+def people_rows(people, map_to_odom) -> list[list]:
+    """The tracks of ``people`` (``robot.people``: None when no tracker runs) as
+    ``PERSON_FIELDS`` rows in the map frame: the tracker works in odom (smooth for the costmaps),
+    the console draws on SLAM's map, so each position goes through ``map -> odom`` and each
+    velocity through its rotation, as the robot's pose does."""
+    if people is None:
+        return []
+    tracks: list[Person] = list(people.current())
+    if not tracks:
+        return []
+    walked = {p.id for p in people.confident()}
+    t: Pose2D = map_to_odom()
+    xy = transform_points(t, [(p.x, p.y) for p in tracks])
+    v = transform_points(Pose2D(0.0, 0.0, t.yaw), [(p.vx, p.vy) for p in tracks])
+    return [[p.id, _r(x, 2), _r(y, 2), _r(vx, 2), _r(vy, 2), _r(p.radius, 2), _r(p.confidence, 2), int(p.id in walked)]
+            for p, (x, y), (vx, vy) in zip(tracks, xy, v)]
 
 
 class LinkLogHandler(logging.Handler):

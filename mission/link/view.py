@@ -57,6 +57,35 @@ class PotView:
 
 
 @dataclass
+class PersonView:
+    """One person the robot's tracker follows, map frame (``mission.link.telemetry.PERSON_FIELDS``)."""
+
+    id: int
+    x: float
+    y: float
+    vx: float = 0.0
+    vy: float = 0.0
+    """Velocity, m/s (0 for someone standing)."""
+    radius: float = 0.25
+    confidence: float = 1.0
+    """0..1: how sure the tracker is that this is a person."""
+    walked: bool = False
+    """The distance rules act on them (they have walked; ``mission.runtime.people``)."""
+
+    @property
+    def speed(self) -> float:
+        return math.hypot(self.vx, self.vy)
+
+    @classmethod
+    def row(cls, r) -> "PersonView":
+        """From one wire row (id, x, y, vx, vy, radius, confidence, walked); a rounded-away
+        number (None on the wire) reads as 0."""
+        i, x, y, vx, vy, radius, confidence, walked = r
+        return cls(int(i), float(x), float(y), float(vx or 0.0), float(vy or 0.0), float(radius or 0.0),
+                   float(confidence or 0.0), bool(walked))
+
+
+@dataclass
 class GridView:
     """An occupancy grid as the console holds it: int8 -1 unknown / 0..100, [iy, ix]."""
 
@@ -115,5 +144,7 @@ class RobotView:
     """The inflated global costmap (0..100 scaled cost) for shading."""
     scan: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
     """(N, 2) map-frame points of the latest lidar scan."""
+    people: list[PersonView] = field(default_factory=list)
+    """The tracker's people as of ``t`` (empty when nobody is tracked or no tracker runs)."""
     log: list[str] = field(default_factory=list)
     connected: bool = False

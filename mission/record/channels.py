@@ -22,6 +22,11 @@ topic                     schema                    rate   what
 /map                      foxglove.Grid             1 Hz   SLAM's map, int8 field ``occupancy``
 /pots                     foxglove.SceneUpdate      1 Hz   a cylinder and a label per pot,
                                                            coloured by status
+/people                   foxglove.SceneUpdate      10 Hz  the tracked people, ``odom``: body,
+                                                           velocity arrow, id / speed /
+                                                           confidence (label and metadata;
+                                                           ``mission.record.people_scene``),
+                                                           only while anyone is tracked
 /mission/state            JSON (jsonschema)         1 Hz   tree text, current step, pots done,
                                                            pot statuses, notes, outcome
 /mission/log              foxglove.Log              new    pots recorded, anomalies, notes,
@@ -57,6 +62,7 @@ from foxglove.messages import (Color, CompressedImage, CylinderPrimitive, FrameT
 from arm.kinematics import camera_ray
 from mission.record.messages import (grid_message, ns, optical_rotation, planar, point_pose, quaternion, stamp,
                                      transform, uniform_scan)
+from mission.record.people_scene import people_update
 from hw.odometry import Pose2D
 from mission.runtime.robot import Robot
 from nav.navigator import Navigator
@@ -109,7 +115,7 @@ STATE_SCHEMA = {
 
 TOPICS = {
     "tf": "/tf", "scan": "/scan", "plan": "/plan", "path": "/path", "costmap": "/costmap/global",
-    "map": "/map", "pots": "/pots", "state": "/mission/state", "log": "/mission/log",
+    "map": "/map", "pots": "/pots", "people": "/people", "state": "/mission/state", "log": "/mission/log",
     "front": "/camera/front/compressed", "wrist": "/camera/wrist/compressed",
 }
 
@@ -147,6 +153,7 @@ class PatrolChannels:
         self.map = GridChannel(TOPICS["map"], context=c)
         self.cameras = {name: CompressedImageChannel(TOPICS[name], context=c) for name in ("front", "wrist")}
         self.pots = SceneUpdateChannel(TOPICS["pots"], context=c)
+        self.people = SceneUpdateChannel(TOPICS["people"], context=c)
         self.state = foxglove.Channel(TOPICS["state"], schema=STATE_SCHEMA, context=c)
         self.log = LogChannel(TOPICS["log"], context=c)
         self.beats = [
@@ -154,6 +161,7 @@ class PatrolChannels:
             _Beat("tf", 1, 0, self._transforms),
             _Beat("scan", 1, 0, self._scan),
             _Beat("cameras", 1, 0, self._frames),
+            _Beat("people", 1, 0, self._people),
             _Beat("paths", *PLAN_BEAT, self._paths),
             _Beat("grids", *GRID_BEAT, self._grids),
             _Beat("mission", *STATE_BEAT, self._mission),
@@ -166,6 +174,8 @@ class PatrolChannels:
         self._last_frames: dict[str, object] = {}
         self._trail: list[Pose] = []
         self._trail_xy: tuple[float, float] | None = None
+        self._tracked = False
+        """The last people update had someone in it (so an empty one is owed when they go)."""
         self._logged: dict[str, int] = {"pots": 0, "anomalies": 0, "estop": 0}
         self._notes: set[str] = set()
         self._outcome_logged = False
@@ -223,7 +233,7 @@ class PatrolChannels:
         """Stop the task and unadvertise every channel."""
         self.stop()
         for ch in (self.tf, self.scan, self.plan, self.path, self.costmap, self.map, *self.cameras.values(),
-                   self.pots, self.state, self.log):
+                   self.pots, self.people, self.state, self.log):
             ch.close()
 
     def _guarded(self, name: str, fn: Callable[[float], None], now: float) -> None:
@@ -276,6 +286,18 @@ class PatrolChannels:
                 self._last_frames[name] = frame
                 self.cameras[name].log(CompressedImage(timestamp=stamp(frame.stamp), frame_id=f"{name}_camera_optical",
                                                        data=frame.jpeg, format="jpeg"), log_time=ns(now))
+
+    def _people(self, now: float) -> None:
+        """The tracker's people (``robot.people``: None when no tracker runs), while anyone is
+        tracked and once more, empty, when the last one is gone."""
+        people = getattr(self.robot, "people", None)
+        if people is None or not self.people.has_sinks():
+            return
+        tracks = tuple(people.current())
+        if tracks or self._tracked:
+            walked = {p.id for p in people.confident()} if tracks else set()
+            self.people.log(people_update(stamp(now), tracks, walked), log_time=ns(now))
+        self._tracked = bool(tracks)
 
     # --- 2 Hz: plan and driven path -------------------------------------------------------
     def _paths(self, now: float) -> None:

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from hw.interfaces import LidarScan
+from hw.people import Person
 from mission.record.channels import GRID_BEAT, PLAN_BEAT, RATE, TOPICS, PatrolChannels, pot_statuses
 from mission.record.messages import matrix_quaternion, optical_rotation, uniform_scan
 from mission.record.mcap_file import McapRecording
@@ -25,6 +26,7 @@ EXPECTED_SCHEMAS = {
     "/costmap/global": ("foxglove.Grid", "protobuf", "protobuf"),
     "/map": ("foxglove.Grid", "protobuf", "protobuf"),
     "/pots": ("foxglove.SceneUpdate", "protobuf", "protobuf"),
+    "/people": ("foxglove.SceneUpdate", "protobuf", "protobuf"),
     "/camera/front/compressed": ("foxglove.CompressedImage", "protobuf", "protobuf"),
     "/camera/wrist/compressed": ("foxglove.CompressedImage", "protobuf", "protobuf"),
     "/mission/state": ("lupin.MissionState", "jsonschema", "json"),
@@ -184,3 +186,63 @@ def test_pot_colours_follow_the_report():
                                   "P05": "pending"}
     report.outcome = "aborted"
     assert pot_statuses(tree)["P04"] == pot_statuses(tree)["P05"] == "skipped"
+
+
+class Walkers:
+    """A ``robot.people`` stand-in: ``current()`` is what ``tracks`` holds now, ``confident()``
+    the ones in ``walked``."""
+
+    def __init__(self, tracks=(), walked=()):
+        self.tracks, self.walked = tuple(tracks), set(walked)
+
+    def current(self):
+        return self.tracks
+
+    def confident(self):
+        return tuple(p for p in self.tracks if p.id in self.walked)
+
+
+def meta(entity) -> dict[str, str]:
+    return {kv["key"]: kv["value"] for kv in entity["metadata"]}
+
+
+def test_a_tracked_person_is_recorded_with_id_speed_and_confidence_and_leaves_when_the_track_ends(tmp_path):
+    parts = fake_parts()
+    walker, box = Person(7, 2.0, 1.0, 0.6, 0.8, 0.25, 0.9), Person(8, -1.0, 0.5, 0.0, 0.0, 0.15, 0.6)
+    parts.robot.people = Walkers([walker, box], walked={7})
+    rec = McapRecording(parts, tmp_path / "run.mcap")
+    sched = parts.robot.scheduler
+    sched.run_for(0.45)  # ticks at 0.0 .. 0.4: five updates with both
+    parts.robot.people.tracks = ()  # the tracker lost them
+    sched.run_for(0.5)  # one emptying update at 0.5, then nothing
+    rec.close()
+    mcap = read_mcap(tmp_path / "run.mcap")
+    updates = mcap.decoded("/people")
+    assert len(updates) == 6 and mcap.counts["/people"] == 6
+    assert [round(t / 1e8) for t in mcap.topics["/people"].log_times] == [0, 1, 2, 3, 4, 5]
+    first = updates[0]
+    assert [d["type"] for d in first["deletions"]] == [1]  # ALL: a dropped track does not linger
+    walking, standing = first["entities"]
+    assert (walking["id"], walking["frame_id"]) == ("person-7", "odom")
+    assert meta(walking) == {"id": "7", "speed": "1.00", "confidence": "0.90", "vx": "0.60", "vy": "0.80",
+                             "walked": "true"}
+    assert meta(standing)["walked"] == "false" and meta(standing)["speed"] == "0.00"
+    body = walking["cylinders"][0]
+    assert (body["pose"]["position"]["x"], body["pose"]["position"]["y"]) == pytest.approx((2.0, 1.0))
+    assert body["size"]["x"] == pytest.approx(0.5)
+    arrow = walking["arrows"][0]
+    assert arrow["shaft_length"] == pytest.approx(1.0)  # a second of walking
+    q = arrow["pose"]["orientation"]
+    assert 2 * math.atan2(q["z"], q["w"]) == pytest.approx(math.atan2(0.8, 0.6))
+    assert "arrows" not in standing  # standing: no arrow
+    assert walking["texts"][0]["text"] == "person 7 1.0 m/s 90%"
+    assert "entities" not in updates[-1] and [d["type"] for d in updates[-1]["deletions"]] == [1]
+
+
+@pytest.mark.parametrize("people", [None, Walkers()], ids=["no tracker", "nobody tracked"])
+def test_no_people_no_people_messages(tmp_path, people):
+    parts = fake_parts()
+    parts.robot.people = people
+    record(parts, tmp_path / "run.mcap", 0.5)
+    counts = read_mcap(tmp_path / "run.mcap").counts
+    assert counts["/tf"] == 7 and counts.get("/people", 0) == 0  # recorded, but nothing on /people

@@ -63,7 +63,8 @@ def recorded(tmp_path_factory) -> Recorded:
 
 @pytest.mark.slow
 def test_every_channel_is_recorded_with_the_schema_foxglove_expects(recorded):
-    assert set(recorded.rec.topics) == set(EXPECTED_SCHEMAS)
+    # /people carries messages only while the tracker follows someone (none may be seen here)
+    assert set(EXPECTED_SCHEMAS) - {"/people"} <= set(recorded.rec.topics) <= set(EXPECTED_SCHEMAS)
     for topic, t in recorded.rec.topics.items():
         assert (t.schema_name, t.schema_encoding, t.message_encoding) == EXPECTED_SCHEMAS[topic], topic
     assert recorded.rec.profile == ""

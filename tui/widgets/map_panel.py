@@ -1,5 +1,6 @@
 """The map panel: occupancy, inflated-cost shading, the scan, the plan and goal, the pots by
-status and the robot with its heading, in half-block characters (two square pixels each).
+status, the people the robot tracks and the robot with its heading, in half-block characters
+(two square pixels each).
 
 :func:`render_map` is pure (view in, one ``Strip`` per character row out), so it is measured
 and tested without a terminal. The picture is one RGB array built with numpy:
@@ -38,6 +39,15 @@ POT_COLOURS = {"pending": (150, 150, 150), "active": (60, 130, 255), "inspected"
                "failed": (230, 40, 40), "skipped": (90, 90, 90)}
 ANOMALY = (255, 160, 0)
 """An inspected pot with an anomaly (no bloom, a bug, ...)."""
+PERSON, TRACK, STRIDE = (170, 100, 255), (110, 80, 150), (235, 215, 255)
+"""A person the rules act on (they have walked), a track they do not act on yet (someone who has
+stood since the robot saw them, or a box it cannot tell from one), and the velocity tick: violet,
+a colour nothing else on the map uses, and a disc where pots are plus signs."""
+STRIDE_S = 1.0
+"""The velocity tick is where the person will be in this long, s: a walker's 1 m/s is 1 m, as
+long as the robot's heading line is 0.35 m, and standing (under ``STILL``) draws none."""
+STILL = 0.1
+"""m/s below which a track is drawn without a tick (the tracker's filter never reads exactly 0)."""
 MARGIN = 0.5
 """Metres around what is drawn."""
 ROBOT_HALF, NOSE = 0.15, 0.35
@@ -59,7 +69,8 @@ def pot_colour(status: str, anomalies) -> tuple[int, int, int]:
 def legend() -> Text:
     """What the colours mean (the panel's bottom border)."""
     t = Text()
-    for name, rgb in (*POT_COLOURS.items(), ("anomaly", ANOMALY), ("plan", PLAN), ("goal", GOAL), ("robot", ROBOT)):
+    for name, rgb in (*POT_COLOURS.items(), ("anomaly", ANOMALY), ("plan", PLAN), ("goal", GOAL), ("robot", ROBOT),
+                      ("person", PERSON)):
         t.append("■", f"rgb({rgb[0]},{rgb[1]},{rgb[2]})")
         t.append(f"{name} ")
     t.rstrip()
@@ -183,6 +194,8 @@ def map_pixels(view: RobotView, width: int, height: int, window: MapWindow | Non
         colours = np.array([pot_colour(p.status, p.anomalies) for p in view.pots], np.uint8)
         dc, dr = np.array([[0, -1, 1, 0, 0], [0, 0, 0, -1, 1]])[:, :, None]  # a plus, whatever the zoom
         cv.pixels((c + dc).ravel(), (r + dr).ravel(), np.tile(colours, (5, 1)))
+    if view.people:
+        _people(cv, view.people)
     x, y, yaw = view.pose
     half = max(ROBOT_HALF, 1.0 / cv.scale)  # at least 3 x 3 pixels
     n = max(3, int(math.ceil(4 * half * cv.scale)) + 1)  # two samples per pixel: no gaps when turned
@@ -192,6 +205,20 @@ def map_pixels(view: RobotView, width: int, height: int, window: MapWindow | Non
     nose = np.linspace(0.0, max(NOSE, 2.5 / cv.scale), max(3, int(NOSE * cv.scale * 2)))
     cv.dots(x + nose * cos, y + nose * sin, HEADING)
     return cv
+
+
+def _people(cv: Canvas, people) -> None:
+    """Each person a disc of their body's radius (at least a 3 x 3 pixel blot, whatever the zoom)
+    and, when they walk, a tick to where they will be in ``STRIDE_S``."""
+    for p in people:
+        px = max(p.radius * cv.scale, 1.5)
+        k = int(math.ceil(px))
+        dc, dr = (a.ravel() for a in np.meshgrid(np.arange(-k, k + 1), np.arange(-k, k + 1)))
+        inside = dc * dc + dr * dr <= px * px + 0.5
+        c, r = cv.to_pixel(p.x, p.y)
+        cv.pixels(c + dc[inside], r + dr[inside], PERSON if p.walked else TRACK)
+        if p.speed >= STILL:
+            cv.line(np.array([[p.x, p.y], [p.x + p.vx * STRIDE_S, p.y + p.vy * STRIDE_S]]), STRIDE)
 
 
 def strips(cv: Canvas) -> list[Strip]:
@@ -225,7 +252,8 @@ def _inputs(view: RobotView) -> tuple:
                   for g in (view.grid, view.costmap))
     pots = tuple((p.x, p.y, p.status, bool(p.anomalies)) for p in view.pots)
     plan, scan = np.asarray(view.plan), np.asarray(view.scan)
-    return (tuple(view.pose), view.goal, grids, pots, plan.shape, plan.tobytes(), scan.shape, scan.tobytes())
+    people = tuple((p.x, p.y, p.vx, p.vy, p.radius, p.walked) for p in view.people)
+    return (tuple(view.pose), view.goal, grids, pots, plan.shape, plan.tobytes(), scan.shape, scan.tobytes(), people)
 
 
 class MapPanel(Widget):
