@@ -19,7 +19,9 @@ second of robot time, sampled on the runtime's own thread at ``SAMPLE_HZ`` from 
 start to its end. The harness thread only waits. The whole patrol's figure is the goal check
 (<= ``GOAL`` core); the ``WINDOW_S`` windows give its median and p95 (``median_ms`` and
 ``p95_ms`` are CPU ms per robot-second in a window: 120 is 0.12 core). The patrol is judged on
-ground truth (the world's tags, flowers and pests against the report).
+ground truth (the world's tags, flowers and pests against the report). Beside it, the same
+patrol bare (``runtime.cpu``'s default patrol, shared within one ``lupin bench`` process: no
+link, as fast as the machine allows), so the line says what serving with a console adds.
 """
 from __future__ import annotations
 
@@ -37,7 +39,7 @@ from typing import Callable
 import numpy as np
 
 from lupin.bench import Sample, benchmark
-from lupin.bench.patrol import correct_pots
+from lupin.bench.patrol import cached, correct_pots, metered_patrol
 from mission.jobs.serve import Service, run_service
 from mission.jobs.sim_serve import start_sim_service
 from mission.link.server import LinkServer, free_endpoint
@@ -166,17 +168,29 @@ def _console_figures(out: Path, wall_s: float) -> dict:
             "cpu_per_wall_s": round(cpu / wall_s, 3)}
 
 
+def _wait_for_patrol(meter: ServeMeter, service: threading.Thread, console: subprocess.Popen) -> bool:
+    """Whether the patrol ended within ``WALL_LIMIT_S``; gives up early when the service's
+    thread died or the console exited before starting any patrol (nothing would end it)."""
+    end = time.perf_counter() + WALL_LIMIT_S
+    while time.perf_counter() < end:
+        if meter.done.wait(1.0):
+            return True
+        if not service.is_alive() or (meter.report is None and console.poll() is not None):
+            return False
+    return False
+
+
 @benchmark("runtime.cpu_serve")
 def runtime_cpu_serve(config: LupinConfig) -> Sample:
     """The runtime's CPU per robot-second on `lupin serve` (sim, real time) with the console
     attached over Zenoh on loopback, asking front-camera snapshots, through one default patrol."""
-    config = with_overrides(config, {"sim": {"realtime": True}})
+    live = with_overrides(config, {"sim": {"realtime": True}})
     world = load_default_world()
-    hz = config.perception.rates.front
+    hz = live.perception.rates.front
     with tempfile.TemporaryDirectory() as tmp:
-        service = start_sim_service(world, config, Path(tmp) / "runs", time.perf_counter)
+        service = start_sim_service(world, live, Path(tmp) / "runs", time.perf_counter)
         endpoint = free_endpoint()
-        server = LinkServer(service, config.link, TOKEN, endpoint)
+        server = LinkServer(service, live.link, TOKEN, endpoint)
         meter = ServeMeter(service, lambda: sum(server.outbox.bytes.values()))
         stop = threading.Event()
         thread = threading.Thread(target=run_service, args=(service, stop, server.close), daemon=True)
@@ -184,10 +198,10 @@ def runtime_cpu_serve(config: LupinConfig) -> Sample:
         thread.start()
         t0 = time.perf_counter()
         with out.open("w") as so, err.open("w") as se:  # files, never a pipe nobody drains
-            console = subprocess.Popen([sys.executable, "-m", "lupin.bench.operator", endpoint, config.link.robot,
+            console = subprocess.Popen([sys.executable, "-m", "lupin.bench.operator", endpoint, live.link.robot,
                                         TOKEN, str(hz)], stdout=so, stderr=se)
         try:
-            finished = meter.done.wait(WALL_LIMIT_S)
+            finished = _wait_for_patrol(meter, thread, console)
         finally:
             console.send_signal(signal.SIGTERM)
             try:
@@ -207,5 +221,9 @@ def runtime_cpu_serve(config: LupinConfig) -> Sample:
               "pots": len(world.pots),
               "inspected": sum(p["status"] == "inspected" for p in doc["pots"]) if doc else 0,
               "correct": correct_pots(world, doc) if doc else 0}
+    bare = cached(("default",), lambda: metered_patrol(load_default_world(), config))[2]["runtime_cpu_per_robot_s"]
+    served = figures.get("runtime_cpu_per_robot_s")
     return Sample(list(windows * 1000.0), {"pacing": "real time", **judged, **figures,
+                                           "bare_patrol_cpu_per_robot_s": bare,
+                                           "serving_adds_per_robot_s": round(served - bare, 4) if served else None,
                                            "console": {"snapshot_hz": hz, **console_figures}})
