@@ -76,12 +76,32 @@ class PeopleConfig(Strict):
     (confidence 1): pots, benches and walls do not walk, m/s."""
     settle_time: float = Field(1.0, ge=0)
     """How long a track must have been seen before its speed is trusted, s."""
+    leg_radius: tuple[float, float] = (0.03, 0.08)
+    """A leg arc's fitted radius lies in this window, m (``perception.people.legs``): legs are
+    0.07 m (``sim.walkers.LEG_RADIUS``, real legs ~0.05-0.09), and the algebraic circle fit pulls
+    a short noisy arc's radius in, to ~0.03-0.065 on synthetic and sim legs; the 0.10 m pots
+    fit ~0.085-0.10 once more than a sliver of them is seen."""
+    arc_rms: float = Field(0.015, gt=0)
+    """A leg arc's returns lie this close to their circle (RMS), m: the C1's ~1 cm noise plus a
+    little; a box's corner (an L) fits a circle to 2-4 cm."""
+    leg_pair_distance: tuple[float, float] = (0.1, 0.5)
+    """Two leg arcs whose circles' centres lie this far apart are a pair of legs, m: standing
+    legs are half the 0.45 m body apart (0.225), a stride opens them to ~0.5."""
+    leg_gap: float = Field(0.03, ge=0)
+    """The two arcs of a pair of legs have their nearest ends at least this far apart, m: a gap
+    (standing legs are 0.085 m apart surface to surface), where a box's two faces meet at its
+    corner with none."""
+    pair_scans: int = Field(3, ge=1)
+    """A track is a pair of legs once its body has been one in this many more scans than not
+    (``PersonTracker.leg_pairs``: a leaky count, so that a box's face that passes for an arc in
+    a stray scan never gets there while a worker facing the robot does within 0.3 s)."""
     legs_confidence: float = Field(0.9, ge=0, le=1)
-    """Confidence of a body made of two or more leg-shaped segments (a pair of legs)."""
+    """Confidence of a body holding a pair of legs by shape (``perception.people.legs``)."""
     leg_confidence: float = Field(0.6, ge=0, le=1)
-    """Confidence of one leg-shaped segment alone (the other leg hidden, or a post)."""
+    """Confidence of a body that is one leg arc alone (the other leg hidden, a post, a pot's
+    sliver)."""
     body_confidence: float = Field(0.5, ge=0, le=1)
-    """Confidence of any other body near the robot that the map and the known pots do not
+    """Confidence of any other body near the robot (a box corner-on included) that the map and the known pots do not
     explain (a cart, a crouching worker, an unmapped crate): a person until shown otherwise."""
     margin: float = Field(0.1, ge=0)
     """A return this close to a mapped occupied cell or a known pot's rim is explained by it, m:

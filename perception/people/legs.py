@@ -1,0 +1,52 @@
+"""Leg arcs and leg pairs: the shape evidence that a standing thing is a person (issue 28).
+
+A box seen corner-on and a pair of legs can both be two narrow segments, and a moved pot's
+unexplained sliver one: by size they are alike (``bodies``). leg_tracker tells them apart by
+shape, and so do we, on the segment fits of ``shape``:
+
+- a *leg arc* is a segment of at least three returns that a circle fits to within
+  ``arc_rms`` (a box face or corner does not: straight, or an L), of radius within
+  ``leg_radius`` (a leg is 0.07 m; the 0.10 m pots fit wider), bulging towards the lidar
+  (its circle's centre lies beyond the returns: a leg is seen from outside);
+- a *leg pair* is two leg arcs whose circles' centres lie ``leg_pair_distance`` apart (0.1-0.5
+  m: two legs of one person, standing or in stride) with a gap between their returns of at
+  least ``leg_gap``: two things, not two faces of one contiguous outline meeting at a corner.
+
+A single leg arc is not enough (a pot's sliver is one, and so is a post); nor is a crouching
+worker's outline anything but a blob to the lidar, the same as a crate's: those keep the walked
+rule (``mission.runtime.people``).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from perception.people.config import PeopleConfig
+from perception.people.segments import Segments
+from perception.people.shape import Fits
+
+
+def arcs(segments: Segments, fits: Fits, robot_xy: np.ndarray, config: PeopleConfig) -> np.ndarray:
+    """(S,) bool: which segments are leg arcs, seen from ``robot_xy``."""
+    lo, hi = config.leg_radius
+    seen = np.hypot(*(segments.centre - robot_xy).T)
+    with np.errstate(invalid="ignore"):
+        beyond = np.hypot(*(fits.circle_centre - robot_xy).T) > seen
+    return ((segments.count >= 3) & (fits.circle_rms <= config.arc_rms)
+            & (fits.radius >= lo) & (fits.radius <= hi) & beyond & (segments.width <= config.leg_width))
+
+
+def gaps(points: np.ndarray, segments: Segments) -> np.ndarray:
+    """(S, S) the least distance between an end of one segment and an end of another, m: the
+    ends facing each other across a gap, or meeting at a corner."""
+    ends = np.stack([points[segments.start], points[segments.start + segments.count - 1]], axis=1)  # (S, 2, 2)
+    d = np.hypot(*(ends[:, None, :, None, :] - ends[None, :, None, :, :]).transpose(4, 0, 1, 2, 3))
+    return d.min(axis=(2, 3))
+
+
+def pairs(points: np.ndarray, segments: Segments, fits: Fits, leg: np.ndarray, config: PeopleConfig) -> np.ndarray:
+    """(S, S) bool, symmetric: the leg arcs ``leg`` that make a pair of legs."""
+    c = np.nan_to_num(fits.circle_centre)
+    apart = np.hypot(*(c[:, None, :] - c[None, :, :]).transpose(2, 0, 1))
+    lo, hi = config.leg_pair_distance
+    both = leg[:, None] & leg[None, :]
+    return both & (apart >= lo) & (apart <= hi) & (gaps(points, segments) >= config.leg_gap)

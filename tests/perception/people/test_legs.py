@@ -1,0 +1,110 @@
+"""Shape evidence (perception/people/shape.py, legs.py): a standing pair of legs is two leg arcs
+with a gap between them; a box seen corner-on and a pot are not, on synthetic C1 scans."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from perception.people import PeopleConfig, PersonTracker
+from perception.people.explained import StaticScene
+from perception.people.legs import arcs, pairs
+from perception.people.segments import Segments, split, unwrap
+from perception.people.shape import fit
+from tests.perception.people.synthetic import POT_RADIUS, Scene, greenhouse, mapped
+
+CONFIG = PeopleConfig()
+ROBOT = (1.0, 2.0, 0.0)
+WALLS = mapped(greenhouse())
+
+
+def segments_of(points: np.ndarray) -> Segments:
+    return split(points, np.hypot(*(points - ROBOT[:2]).T), CONFIG.jump, CONFIG.jump_per_metre)
+
+
+def near_segments(scan: np.ndarray, x: float, y: float) -> tuple[np.ndarray, Segments]:
+    """The returns of a whole revolution within 0.3 m of (x, y), in unwrapped order, and their
+    segments."""
+    scan = scan[unwrap(scan)]
+    pts = scan[np.hypot(scan[:, 0] - x, scan[:, 1] - y) < 0.3]
+    return pts, segments_of(pts)
+
+
+def test_line_and_circle_fits_recover_a_line_and_a_circle():
+    t = np.linspace(0, 1, 20)
+    line = np.stack([t, 0.5 * t + 1], axis=1)
+    a = np.linspace(-1.2, 1.2, 15)
+    circle = np.stack([2 + 0.07 * np.cos(a), 3 + 0.07 * np.sin(a)], axis=1)
+    pts = np.concatenate([line, circle])
+    f = fit(pts, Segments(np.array([0, 20]), np.array([20, 15]), np.zeros((2, 2)), np.zeros((2, 2)), np.zeros((2, 2))))
+    assert f.line_rms[0] < 1e-6 and np.isinf(f.radius[0])  # collinear: no circle
+    assert abs(f.radius[1] - 0.07) < 1e-9 and f.circle_rms[1] < 1e-9
+    assert np.allclose(f.circle_centre[1], [2, 3])
+    assert f.line_rms[1] > 0.005
+
+
+def detections(scene: Scene, robot=ROBOT, pots=(), scans: int = 10):
+    tracker = PersonTracker(CONFIG)
+    static = StaticScene(WALLS, np.array(pots).reshape(-1, 2), POT_RADIUS, CONFIG.margin)
+    out = []
+    for k in range(scans):
+        pts = scene.scan(robot, seed=k)
+        out.append(tracker.detect(pts, robot, static.explained(pts)))
+    return out
+
+
+def test_two_leg_arcs_with_a_gap_are_a_pair_of_legs():
+    for distance in (0.8, 1.5, 2.0):
+        bodies = detections(greenhouse().legs(ROBOT[0] + distance, 2.0, heading=math.pi))
+        assert sum(bool(b.pair.any()) for b in bodies) >= 7, distance
+        assert all(len(b) == 1 for b in bodies)
+
+
+def test_a_box_corner_on_is_not_a_pair_of_legs():
+    for distance in (0.8, 1.5, 2.0):
+        for yaw in (math.pi / 4, 0.3, 1.0):
+            bodies = detections(greenhouse().box(ROBOT[0] + distance, 2.0, 0.3, 0.3, yaw))
+            assert not any(b.pair.any() for b in bodies), (distance, yaw)
+            assert all(len(b) == 1 and b.confidence[0] == CONFIG.body_confidence for b in bodies)
+
+
+def test_a_box_face_split_in_two_by_the_scan_start_is_one_again():
+    """The revolution starts straight ahead: without ``unwrap`` a box dead ahead is cut in two
+    at the array's ends (its two faces, corner-on), each as narrow as a leg."""
+    s = greenhouse().box(2.0, 2.0, 0.3, 0.3, math.pi / 4)
+    pts = s.scan(ROBOT)
+    near = np.hypot(pts[:, 0] - 2.0, pts[:, 1] - 2.0) < 0.4
+    assert len(segments_of(pts[near]).count) == 2
+    assert len(segments_of(pts[unwrap(pts)][near[unwrap(pts)]]).count) == 1
+
+
+def test_a_pot_arc_is_not_a_leg():
+    for distance in (0.8, 1.5, 2.0):
+        for radius, leg in ((POT_RADIUS, False), (0.07, True)):  # a leg at the same distance is one
+            thing = Scene(walls=greenhouse().walls, circles=[(ROBOT[0] + distance, 2.0, radius)])
+            pts, segs = near_segments(thing.scan(ROBOT), ROBOT[0] + distance, 2.0)
+            assert len(segs.count) == 1
+            assert arcs(segs, fit(pts, segs), np.array(ROBOT[:2]), CONFIG).all() == leg, (distance, radius)
+
+
+def test_two_pots_side_by_side_or_a_moved_pot_are_not_a_pair_of_legs():
+    side_by_side = Scene(walls=greenhouse().walls, circles=[(2.5, 1.85, POT_RADIUS), (2.5, 2.15, POT_RADIUS)])
+    assert not any(b.pair.any() for b in detections(side_by_side))
+    for dx, dy in ((0.15, -0.05), (0.15, 0.05), (-0.15, 0.05), (0.0, 0.16)):
+        moved = Scene(walls=greenhouse().walls, circles=[(2.5 + dx, 2.0 + dy, POT_RADIUS)])
+        assert not any(b.pair.any() for b in detections(moved, pots=[(2.5, 2.0)])), (dx, dy)
+
+
+def test_a_two_leg_gap_check_tells_a_corner_from_legs():
+    """Two arcs meeting end to end (no gap) are not a pair even with their centres apart."""
+    a = np.linspace(-1.0, 1.0, 8)
+    left = np.stack([2 - 0.06 * np.cos(a), 1.9 + 0.06 * np.sin(a)], axis=1)
+    right = np.stack([2 - 0.06 * np.cos(a), 2.1 + 0.06 * np.sin(a)], axis=1)
+    for second, gap in ((right, True), (right - [0, 0.08], False)):
+        pts = np.concatenate([left, second])
+        segs = Segments(np.array([0, 8]), np.array([8, 8]), np.array([pts[:8].mean(0), pts[8:].mean(0)]),
+                        np.array([pts[:8].min(0), pts[8:].min(0)]), np.array([pts[:8].max(0), pts[8:].max(0)]))
+        f = fit(pts, segs)
+        leg = arcs(segs, f, np.array(ROBOT[:2]), CONFIG)
+        assert leg.all()
+        assert pairs(pts, segs, f, leg, CONFIG)[0, 1] == gap
