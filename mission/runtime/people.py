@@ -19,25 +19,17 @@ occupied components longer than any person (``max_extent``, the tracker's own bo
 diagonal, after closing 0.1 m gaps), which are walls and benches; a worker standing still, a
 crouching one or a crate stays a small blob and is never taken in.
 
-The rules act on a track (``confident``) once it is shown a person, from then on for as long as
-the track lives, standing or not, in one of two ways:
-
-- by shape: its body has been a pair of legs (``PersonTracker.leg_pairs``: two leg arcs with a
-  gap between them, ``perception.people.legs``), so a worker standing still from the start is
-  a person from the first scans that see both legs (issue 28 items 1-2: the aisle worker was
-  passed at 0.119 m as an ordinary obstacle);
-- by walking: it moved ``WALKED`` from where it was first seen.
-
-Size alone does not show a person: a 0.3 m box seen corner-on is two leg-wide faces and a
-moved pot's unexplained sliver one leg-wide arc, and with the rules on every unexplained track
-the box-in-aisle and moved-pot scenarios failed their pots (a keep-out round something the
-robot must stand 0.35 m or 0.18 m from). The shape fits tell those apart: a face is straight,
-two faces meet at a corner with no gap, a pot's arc is wider than a leg's. Nor does the
-tracker's speed alone: a box's seen centre shifts by up to half its width as the robot drives
-past it, which the filter reads as a few tenths of a m/s; a body that moved half a metre has
-walked. What neither shows stays an obstacle with today's distances until it moves (the
-collision monitor's stop zone as ever): one leg seen alone (the other hidden behind it, side
-on), and a crouching worker, whose outline the lidar cannot tell from a crate's.
+The rules act on tracks that have walked (``confident``: moved ``WALKED`` from where they were
+first seen), from then on for as long as the track lives, standing or not. A standing thing is
+not shown to be a person by its shape: a 0.3 m box seen corner-on is
+two leg-shaped faces (0.9, like a pair of legs) and a moved pot one leg (0.6), and with the
+rules on every unexplained track the box-in-aisle and moved-pot scenarios failed their pots (a
+keep-out round something the robot must stand 0.35 m or 0.18 m from). Nor by the tracker's
+speed alone: a box's seen centre shifts by up to half its width as the robot drives past it,
+which the filter reads as a few tenths of a m/s (the box was "walking" in box-in-aisle); a body
+that moved half a metre has walked. Someone who has stood
+still since before the robot saw them is an obstacle with today's distances until they move,
+the collision monitor's stop zone as ever.
 
 ========  ======  =======================================================
 task      rate    why
@@ -85,7 +77,7 @@ class People:
         self.tracks: tuple[Person, ...] = ()
         """The newest people, odom frame."""
         self.walked: set[int] = set()
-        """Ids of the tracks shown people, by walking or by a pair of legs (``confident``)."""
+        """Ids of the tracks that have walked: people (``confident``)."""
         self._origin: dict[int, tuple[float, float]] = {}
         self.guard: PeopleGuard | None = None
         """The people guard on the base (``attach_people``)."""
@@ -104,15 +96,14 @@ class People:
     def watch(self, pots_xy: Sequence[tuple[float, float]], pot_radius: float) -> Callable[[], Sequence[Person]]:
         """Start tracking with the mission's pots (map frame) as known; the scene is frozen at
         the next tick with a map. Returns the source of the people the rules act on (the
-        tracks shown people), for the report."""
+        tracks that have walked), for the report."""
         self._pots = np.asarray(pots_xy, dtype=float).reshape(-1, 2)
         self._pot_radius = pot_radius
         self.scene, self._first, self._live = None, None, None
         return self.confident
 
     def confident(self) -> Sequence[Person]:
-        """The people the distance rules act on: the tracks shown people by a pair of legs or by
-        walking (module docstring)."""
+        """The people the distance rules act on: the tracks that have walked (module docstring)."""
         return tuple(p for p in self.tracks if p.id in self.walked)
 
     def tick(self, now: float) -> None:
@@ -135,13 +126,9 @@ class People:
         points = odom_points(scan.angles, scan.ranges, (lidar.x, lidar.y, lidar.yaw))
         explained = self.scene.explained(transform_points(self.map_to_odom(), points))
         self.tracks = self.tracker.update(scan.stamp, points, (odom.x, odom.y, odom.yaw), explained)
-        alive = set(self.tracker.ids.tolist())  # reported or coasting unseen: the same person
-        self._origin = {i: o for i, o in self._origin.items() if i in alive}
-        for p in self.tracks:
-            self._origin.setdefault(p.id, (p.x, p.y))
-        legs = self.tracker.leg_pairs()
-        self.walked = {i for i in self.walked if i in alive} | legs | {
-            p.id for p in self.tracks if np.hypot(p.x - self._origin[p.id][0], p.y - self._origin[p.id][1]) > WALKED}
+        self._origin = {p.id: self._origin.get(p.id, (p.x, p.y)) for p in self.tracks}
+        self.walked = {p.id for p in self.tracks if p.id in self.walked
+                       or np.hypot(p.x - self._origin[p.id][0], p.y - self._origin[p.id][1]) > WALKED}
 
 
 class Cells:

@@ -76,11 +76,11 @@ class PeopleConfig(Strict):
     (confidence 1): pots, benches and walls do not walk, m/s."""
     settle_time: float = Field(1.0, ge=0)
     """How long a track must have been seen before its speed is trusted, s."""
-    leg_radius: tuple[float, float] = (0.03, 0.08)
+    leg_radius: tuple[float, float] = (0.03, 0.085)
     """A leg arc's fitted radius lies in this window, m (``perception.people.legs``): legs are
-    0.07 m (``sim.walkers.LEG_RADIUS``, real legs ~0.05-0.09), and the algebraic circle fit pulls
-    a short noisy arc's radius in, to ~0.03-0.065 on synthetic and sim legs; the 0.10 m pots
-    fit ~0.085-0.10 once more than a sliver of them is seen."""
+    0.07 m (``sim.walkers.LEG_RADIUS``, real legs ~0.05-0.09) and fit 0.055-0.08 (10th to 75th
+    percentile, synthetic C1 scans 0.8-2.5 m away) while the 0.10 m pots fit 0.088-0.11 (10th to
+    90th): the window's top sits between; a short side-on sliver of a leg fits down to ~0.03."""
     arc_rms: float = Field(0.015, gt=0)
     """A leg arc's returns lie this close to their circle (RMS), m: the C1's ~1 cm noise plus a
     little; a box's corner (an L) fits a circle to 2-4 cm."""
