@@ -6,7 +6,8 @@ A module per idea:
   start and the known pots account for (and why not the live SLAM map).
 - :mod:`perception.people.segments`: the scan split at range jumps into segments.
 - :mod:`perception.people.shape`: a line and a circle fitted to every segment at once.
-- :mod:`perception.people.legs`: leg arcs and pairs of legs by shape (a box corner is not one).
+- :mod:`perception.people.legs`: leg arcs and pairs of legs by shape (a box corner is not one), not yet
+  used by the tracker (see the module).
 - :mod:`perception.people.bodies`: segments joined into bodies (legs paired within 0.8 m, a cart
   to its pusher), walls rejected by size, each body's shape scored.
 - :mod:`perception.people.motion`: the constant-velocity Kalman filter, batched over tracks.

@@ -1,16 +1,15 @@
 """From segments to bodies: legs paired, a cart joined to its pusher, each body's shape scored.
 
-leg_tracker classifies each segment and pairs legs within 0.8 m; we group by size, what
-separates the greenhouse's people from what is left once the map and the known pots have
-explained their returns, and score by shape (``legs``). Two leg-wide segments whose centres lie within
+leg_tracker classifies each segment and pairs legs within 0.8 m; we do the same with the one
+feature that separates the greenhouse's people from what is left once the map and the known
+pots have explained their returns: size. Two leg-wide segments whose centres lie within
 ``pair_distance`` are a pair of legs, and any two segments that nearly touch (``join_gap``) are
 one thing; connected components of those links are the bodies (so a cart and the two legs
 behind it are one body, as ``hw.people.Person`` asks, while a worker standing beside a parked
 cart stays a person of their own); a body wider than ``max_extent`` is a wall or a row of things, not
-a person; a body holding a pair of legs by shape (two leg arcs with a gap, ``legs.pairs``) is the
-most confident, one leg arc alone a leg, anything else a compact unexplained body (a cart seen
-from the front, a crouching worker's outline, an unmapped crate, a box corner-on whose two faces
-are each as narrow as a leg), a person until shown otherwise.
+a person; a body of two or more leg-wide segments is a pair of legs (most confident), one
+leg-wide segment a leg alone, anything else a compact unexplained body (a cart seen from the
+front, a crouching worker's outline, an unmapped crate), a person until shown otherwise.
 """
 from __future__ import annotations
 
@@ -18,10 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from perception.people import legs as leg_shape
 from perception.people.config import PeopleConfig
 from perception.people.segments import Segments
-from perception.people.shape import fit
 
 
 @dataclass(frozen=True)
@@ -34,8 +31,6 @@ class Bodies:
     """(B,) radius of a circle holding what was seen, plus the unseen far side, m."""
     confidence: np.ndarray
     """(B,) how person-like the shape is (config: legs, leg, body confidence)."""
-    pair: np.ndarray
-    """(B,) bool: the body holds a pair of legs by shape (``perception.people.legs``)."""
 
     def __len__(self) -> int:
         return len(self.centre)
@@ -72,7 +67,7 @@ def group(points: np.ndarray, segments: Segments, robot_xy: np.ndarray, config: 
         kept = np.repeat(enough, segments.count)
         points, segments = points[kept], segments.subset(enough)
     if not len(segments.count):
-        return Bodies(np.zeros((0, 2)), np.zeros(0), np.zeros(0), np.zeros(0, bool))
+        return Bodies(np.zeros((0, 2)), np.zeros(0), np.zeros(0))
     labels = components(links(segments, config))
     uniq, label = np.unique(labels, return_inverse=True)
     b = len(uniq)
@@ -81,11 +76,8 @@ def group(points: np.ndarray, segments: Segments, robot_xy: np.ndarray, config: 
     np.minimum.at(lo, label, segments.lo)
     np.maximum.at(hi, label, segments.hi)
     count = np.bincount(label, segments.count, minlength=b)
-    fits = fit(points, segments)
-    arc = leg_shape.arcs(segments, fits, robot_xy, config)
-    paired = leg_shape.pairs(points, segments, fits, arc, config) & (label[:, None] == label[None, :])
-    pair = np.bincount(label, paired.any(axis=1), minlength=b) > 0
-    alone = (np.bincount(label, arc, minlength=b) == 1) & (np.bincount(label, minlength=b) == 1)
+    legs = np.bincount(label, segments.width <= config.leg_width, minlength=b)
+    parts = np.bincount(label, minlength=b)
     keep = (count >= config.min_body_points) & (np.hypot(*(hi - lo).T) <= config.max_extent)
     seen = (lo + hi) / 2
     away = seen - robot_xy
@@ -95,5 +87,6 @@ def group(points: np.ndarray, segments: Segments, robot_xy: np.ndarray, config: 
     point_label = np.repeat(label, segments.count)
     reach = np.zeros(b)
     np.maximum.at(reach, point_label, np.hypot(*(points - centre[point_label]).T))
-    confidence = np.where(pair, config.legs_confidence, np.where(alone, config.leg_confidence, config.body_confidence))
-    return Bodies(centre[keep], (reach + config.depth)[keep], confidence[keep], pair[keep])
+    confidence = np.where((legs >= 2) & (legs == parts), config.legs_confidence,
+                          np.where((legs == 1) & (parts == 1), config.leg_confidence, config.body_confidence))
+    return Bodies(centre[keep], (reach + config.depth)[keep], confidence[keep])

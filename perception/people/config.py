@@ -91,17 +91,12 @@ class PeopleConfig(Strict):
     """The two arcs of a pair of legs have their nearest ends at least this far apart, m: a gap
     (standing legs are 0.085 m apart surface to surface), where a box's two faces meet at its
     corner with none."""
-    pair_scans: int = Field(3, ge=1)
-    """A track is a pair of legs once its body has been one in this many more scans than not
-    (``PersonTracker.leg_pairs``: a leaky count, so that a box's face that passes for an arc in
-    a stray scan never gets there while a worker facing the robot does within 0.3 s)."""
     legs_confidence: float = Field(0.9, ge=0, le=1)
-    """Confidence of a body holding a pair of legs by shape (``perception.people.legs``)."""
+    """Confidence of a body made of two or more leg-shaped segments (a pair of legs)."""
     leg_confidence: float = Field(0.6, ge=0, le=1)
-    """Confidence of a body that is one leg arc alone (the other leg hidden, a post, a pot's
-    sliver)."""
+    """Confidence of one leg-shaped segment alone (the other leg hidden, or a post)."""
     body_confidence: float = Field(0.5, ge=0, le=1)
-    """Confidence of any other body near the robot (a box corner-on included) that the map and the known pots do not
+    """Confidence of any other body near the robot that the map and the known pots do not
     explain (a cart, a crouching worker, an unmapped crate): a person until shown otherwise."""
     margin: float = Field(0.1, ge=0)
     """A return this close to a mapped occupied cell or a known pot's rim is explained by it, m:

@@ -15,14 +15,23 @@ shape, and so do we, on the segment fits of ``shape``:
 A single leg arc is not enough (a pot's sliver is one, and so is a post); nor is a crouching
 worker's outline anything but a blob to the lidar, the same as a crate's: those keep the walked
 rule (``mission.runtime.people``).
+
+:func:`find` runs the whole shape pass on one scan. It segments the scan as the circle it is
+(``segments.unwrap``: the revolution starts straight ahead, and whatever stood dead ahead was
+cut in two at the array's ends, a box corner-on into two leg-wide faces) and breaks segments
+where the map took returns out (``split``'s ``index``: the wall seen between a standing
+person's legs, 0.085 m apart surface to surface, under the jump). Not yet wired into the
+tracker: with this segmentation in the tracker the walker-crossing scenario failed a pot, and
+with the runtime's rules acting on leg pairs walker-following deadlocked (a yielding grower
+standing for the robot, the robot waiting for the grower): issue 28 items 1-2 stay open.
 """
 from __future__ import annotations
 
 import numpy as np
 
 from perception.people.config import PeopleConfig
-from perception.people.segments import Segments
-from perception.people.shape import Fits
+from perception.people.segments import Segments, split, unwrap
+from perception.people.shape import Fits, fit
 
 
 def arcs(segments: Segments, fits: Fits, robot_xy: np.ndarray, config: PeopleConfig) -> np.ndarray:
@@ -50,3 +59,20 @@ def pairs(points: np.ndarray, segments: Segments, fits: Fits, leg: np.ndarray, c
     lo, hi = config.leg_pair_distance
     both = leg[:, None] & leg[None, :]
     return both & (apart >= lo) & (apart <= hi) & (gaps(points, segments) >= config.leg_gap)
+
+
+def find(points: np.ndarray, robot_xy: np.ndarray, explained: np.ndarray, config: PeopleConfig) -> np.ndarray:
+    """(K, 2) the pairs of legs of one scan: the midpoints of their circles' centres.
+    ``points``: the revolution's returns in scan order; ``explained``: the map's and the known
+    pots' (``explained.StaticScene``)."""
+    order = unwrap(points)
+    pts = np.asarray(points, dtype=float)[order]
+    ranges = np.hypot(*(pts - robot_xy).T)
+    keep = ~np.asarray(explained, dtype=bool)[order] & (ranges >= config.min_range) & (ranges <= config.max_range)
+    index = np.flatnonzero(keep)
+    pts, ranges = pts[keep], ranges[keep]
+    segs = split(pts, ranges, config.jump, config.jump_per_metre, index)
+    fits = fit(pts, segs)
+    leg = arcs(segs, fits, robot_xy, config)
+    i, j = np.nonzero(np.triu(pairs(pts, segs, fits, leg, config)))
+    return (fits.circle_centre[i] + fits.circle_centre[j]) / 2

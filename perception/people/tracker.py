@@ -9,8 +9,7 @@ what the Hungarian method would choose), correct the matched tracks, start a tra
 left over, and delete tracks unseen for ``drop_after``. A track is reported from its first
 detection (anything unexplained near the path is a person until shown otherwise) while it was
 seen within ``coast``; its confidence is the most person-like shape it has shown, 1 once it has
-walked, fading while it is not seen. Each track also counts the scans its body was a pair of
-legs by shape, leakily (``leg_pairs``): what tells a person standing still from a box.
+walked, fading while it is not seen.
 
 Nothing here reads a clock: time is the scan's ``stamp``.
 """
@@ -23,7 +22,7 @@ from hw.people import Person
 from perception.people import motion
 from perception.people.bodies import Bodies, group
 from perception.people.config import PeopleConfig
-from perception.people.segments import split, unwrap
+from perception.people.segments import split
 
 
 class PersonTracker:
@@ -40,9 +39,6 @@ class PersonTracker:
         self.seen = np.zeros(0)
         self.shape = np.zeros(0)
         self.radius = np.zeros(0)
-        self.pairs = np.zeros(0, dtype=int)
-        """Per track: scans its body was a pair of legs, less those it was seen and was not
-        (never below 0, capped at ``pair_scans``)."""
         self.people: tuple[Person, ...] = ()
         """The people of the last update (what a ``hw.people.PeopleSource`` hands out)."""
 
@@ -54,14 +50,11 @@ class PersonTracker:
         """One scan's person candidates (no tracking): see :meth:`update`."""
         c = self.config
         pts = np.asarray(points, dtype=float).reshape(-1, 2)
-        order = unwrap(pts)
-        pts = pts[order]
         robot_xy = np.array(robot[:2], dtype=float)
         ranges = np.hypot(*(pts - robot_xy).T)
-        keep = ~np.asarray(explained, dtype=bool)[order] & (ranges >= c.min_range) & (ranges <= c.max_range)
-        index = np.flatnonzero(keep)
+        keep = ~np.asarray(explained, dtype=bool) & (ranges >= c.min_range) & (ranges <= c.max_range)
         pts, ranges = pts[keep], ranges[keep]
-        return group(pts, split(pts, ranges, c.jump, c.jump_per_metre, index), robot_xy, c)
+        return group(pts, split(pts, ranges, c.jump, c.jump_per_metre), robot_xy, c)
 
     def update(self, stamp: float, points: np.ndarray, robot: tuple[float, float, float],
                explained: np.ndarray) -> tuple[Person, ...]:
@@ -83,7 +76,6 @@ class PersonTracker:
             self.seen[track] = stamp
             self.shape[track] = np.maximum(self.shape[track], bodies.confidence[body])
             self.radius[track] = bodies.radius[body]
-            self.pairs[track] = np.clip(self.pairs[track] + np.where(bodies.pair[body], 1, -1), 0, c.pair_scans)
         fresh = np.setdiff1d(np.arange(len(bodies)), body)
         if len(fresh):
             x, p = motion.start(bodies.centre[fresh], c.measurement_std)
@@ -94,18 +86,11 @@ class PersonTracker:
             self.seen = np.concatenate([self.seen, np.full(len(fresh), stamp)])
             self.shape = np.concatenate([self.shape, bodies.confidence[fresh]])
             self.radius = np.concatenate([self.radius, bodies.radius[fresh]])
-            self.pairs = np.concatenate([self.pairs, bodies.pair[fresh].astype(int)])
         alive = stamp - self.seen < c.drop_after
-        for name in ("ids", "x", "p", "born", "seen", "shape", "radius", "pairs"):
+        for name in ("ids", "x", "p", "born", "seen", "shape", "radius"):
             setattr(self, name, getattr(self, name)[alive])
         self.people = self._report(stamp)
         return self.people
-
-    def leg_pairs(self) -> set[int]:
-        """Ids of the tracks whose body is now a pair of legs by shape: ``pair_scans`` more
-        scans as a pair than not (``perception.people.legs``). A person standing still shows
-        this within a few scans; a box corner-on or a pot does not."""
-        return set(self.ids[self.pairs >= self.config.pair_scans].tolist())
 
     def _associate(self, bodies: Bodies) -> tuple[np.ndarray, np.ndarray]:
         """Matched (track indices, body indices): nearest pairs first, each within the gate."""

@@ -6,9 +6,9 @@ import math
 
 import numpy as np
 
-from perception.people import PeopleConfig, PersonTracker
+from perception.people import PeopleConfig
 from perception.people.explained import StaticScene
-from perception.people.legs import arcs, pairs
+from perception.people.legs import arcs, find, pairs
 from perception.people.segments import Segments, split, unwrap
 from perception.people.shape import fit
 from tests.perception.people.synthetic import POT_RADIUS, Scene, greenhouse, mapped
@@ -44,28 +44,27 @@ def test_line_and_circle_fits_recover_a_line_and_a_circle():
 
 
 def detections(scene: Scene, robot=ROBOT, pots=(), scans: int = 10):
-    tracker = PersonTracker(CONFIG)
+    """The pairs of legs found in each of ``scans`` noisy scans."""
     static = StaticScene(WALLS, np.array(pots).reshape(-1, 2), POT_RADIUS, CONFIG.margin)
     out = []
     for k in range(scans):
         pts = scene.scan(robot, seed=k)
-        out.append(tracker.detect(pts, robot, static.explained(pts)))
+        out.append(find(pts, np.array(robot[:2]), static.explained(pts), CONFIG))
     return out
 
 
 def test_two_leg_arcs_with_a_gap_are_a_pair_of_legs():
     for distance in (0.8, 1.5, 2.0):
-        bodies = detections(greenhouse().legs(ROBOT[0] + distance, 2.0, heading=math.pi))
-        assert sum(bool(b.pair.any()) for b in bodies) >= 5, distance  # the rest: one leg arc's fit off
-        assert all(len(b) == 1 for b in bodies)
+        found = detections(greenhouse().legs(ROBOT[0] + distance, 2.0, heading=math.pi))
+        assert sum(len(f) == 1 for f in found) >= 5, distance  # the rest: one leg arc's fit off
+        assert all(np.hypot(f[:, 0] - ROBOT[0] - distance, f[:, 1] - 2.0).max() < 0.1 for f in found if len(f))
 
 
 def test_a_box_corner_on_is_not_a_pair_of_legs():
     for distance in (0.8, 1.5, 2.0):
         for yaw in (math.pi / 4, 0.3, 1.0):
-            bodies = detections(greenhouse().box(ROBOT[0] + distance, 2.0, 0.3, 0.3, yaw))
-            assert not any(b.pair.any() for b in bodies), (distance, yaw)
-            assert all(len(b) == 1 and b.confidence[0] == CONFIG.body_confidence for b in bodies)
+            assert not any(len(f) for f in detections(greenhouse().box(ROBOT[0] + distance, 2.0, 0.3, 0.3, yaw))), \
+                (distance, yaw)
 
 
 def test_a_box_face_split_in_two_by_the_scan_start_is_one_again():
@@ -98,10 +97,10 @@ def test_a_pot_arc_is_not_a_leg():
 
 def test_two_pots_side_by_side_or_a_moved_pot_are_not_a_pair_of_legs():
     side_by_side = Scene(walls=greenhouse().walls, circles=[(2.5, 1.85, POT_RADIUS), (2.5, 2.15, POT_RADIUS)])
-    assert not any(b.pair.any() for b in detections(side_by_side))
+    assert not any(len(f) for f in detections(side_by_side))
     for dx, dy in ((0.15, -0.05), (0.15, 0.05), (-0.15, 0.05), (0.0, 0.16)):
         moved = Scene(walls=greenhouse().walls, circles=[(2.5 + dx, 2.0 + dy, POT_RADIUS)])
-        assert not any(b.pair.any() for b in detections(moved, pots=[(2.5, 2.0)])), (dx, dy)
+        assert not any(len(f) for f in detections(moved, pots=[(2.5, 2.0)])), (dx, dy)
 
 
 def test_a_two_leg_gap_check_tells_a_corner_from_legs():
