@@ -143,6 +143,8 @@ class PatrolRun:
         if sheet is not None:
             write_png(directory / "contact.png", sheet)
         write_atomic(directory / "tree.txt", (self.tree.render() + "\n").encode())
+        for pot in self.tree.finder.rejudge(self.tree.visits):  # moved verdicts made with no drift to go by
+            self.report.revise_moved(pot, self.tree.visits[pot.id])
         extra = {"notes": self.tree.notes} if self.tree.notes else {}
         if self.events is not None and self.events.applied:
             extra["events"] = self.events.applied

@@ -21,7 +21,7 @@ from behaviours.visit import PotVisit
 from hw.odometry import Pose2D
 from mission.approach import approach_pose
 from mission.patrol.config import PatrolConfig
-from mission.patrol.map_drift import MapDrift, in_mission_frame
+from mission.patrol.map_drift import MapDrift, in_mission_frame, walls_apart
 from mission.patrol.mission_file import Mission, MissionPot
 from mission.patrol.tag_sightings import pot_from_tag
 from nav.costmap.grid import INSCRIBED
@@ -64,11 +64,33 @@ class PotFinder:
             return False
         s = pot_from_tag(read, robot, self.config.front_camera_mount, self.config.plate_offset)
         visit.located, visit.own_tag = (s.x, s.y, s.facing), read
-        dx, dy = visit.drift = self.drift.near(pot.x, pot.y)
-        off, turn = self.offset(pot, visit)
-        visit.moved = off > self.config.moved_xy or turn > self.config.moved_yaw
+        self.drift.apart = walls_apart(getattr(self.nav.localisation, "occupancy", None) if self.nav else None)
+        self._judge(pot, visit, self.drift.consensus(pot.x, pot.y))
         self.drift.record((pot.x, pot.y), (s.x - pot.x, s.y - pot.y))
         return True
+
+    def _judge(self, pot: MissionPot, visit: PotVisit, drift: tuple[float, float] | None) -> None:
+        visit.drift, visit.drift_known = drift or (0.0, 0.0), drift is not None
+        off, turn = self.offset(pot, visit)
+        visit.moved = off > self.config.moved_xy or turn > self.config.moved_yaw
+
+    def rejudge(self, visits: dict[str, PotVisit]) -> list[MissionPot]:
+        """At the patrol's end: the pots whose moved verdict was made with no drift to go by
+        (the first pots of a patrol, or past a bay's divider), judged again against the drift of
+        every pot located since (the pot itself left out); the pots whose verdict changed."""
+        changed = []
+        for pot in self.mission.pots:
+            visit = visits.get(pot.id)
+            if visit is None or visit.located is None or visit.drift_known:
+                continue
+            drift = self.drift.consensus(pot.x, pot.y, skip=(pot.x, pot.y))
+            if drift is None:
+                continue
+            was = visit.moved
+            self._judge(pot, visit, drift)
+            if visit.moved != was:
+                changed.append(pot)
+        return changed
 
     def offset(self, pot: MissionPot, visit: PotVisit) -> tuple[float, float]:
         """How far (m) and how much turned (rad) the located pot is from the mission's, in the

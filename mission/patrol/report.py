@@ -104,14 +104,10 @@ class PatrolReport:
             anomalies.append(("unreachable", f"{visit.attempts} attempt(s): {visit.failures.get('approach', '')}"))
         elif visit.deferred:
             anomalies.append(("retried_later", f"inspected after the other pots; the first go: {visit.deferred}"))
-        if visit.moved:
-            x, y, facing = in_mission_frame(visit)
-            off = math.hypot(x - pot.x, y - pot.y)
-            turn = math.remainder(facing - pot.facing, 2 * math.pi)
-            anomalies.append(("moved", f"{off:.2f} m from the mission's position, turned {turn:+.2f} rad"
-                                       + (f" (the map's drift there, {math.hypot(*visit.drift):.2f} m, taken out)"
-                                          if any(visit.drift) else "")))
-            extra["moved"] = {"x": round(x, 3), "y": round(y, 3), "facing": round(facing, 3)}
+        moved = _moved(pot, visit)
+        if moved is not None:
+            anomalies.append(("moved", moved.pop("detail")))
+            extra["moved"] = moved
         if "arm" in visit.failures:
             anomalies.append(("arm_unavailable", visit.failures["arm"]))
         for step in ("wrist", "front"):
@@ -155,6 +151,14 @@ class PatrolReport:
         for observer in self.observers:
             observer.recorded(pot, entry, [k for k, _ in anomalies])
         self.write()
+
+    def revise_moved(self, pot: MissionPot, visit: PotVisit) -> None:
+        """The pot's ``moved`` anomaly as its verdict stands now (judged again at the patrol's
+        end, ``PotFinder.rejudge``); the history keeps what was recorded at the pot."""
+        self.anomalies = [a for a in self.anomalies if not (a["pot"] == pot.id and a["kind"] == "moved")]
+        moved = _moved(pot, visit)
+        if moved is not None:
+            self.anomalies.append({"kind": "moved", "pot": pot.id, **moved})
 
     def _save_image(self, name: str, frame: Frame) -> str:
         write_atomic(self.directory / name, frame.jpeg)
@@ -204,6 +208,19 @@ class PatrolReport:
         for observer in self.observers:
             observer.finished(doc)
         return doc
+
+
+def _moved(pot: MissionPot, visit: PotVisit) -> dict | None:
+    """A moved pot's anomaly fields (``detail``, and where it stands in the mission's frame), or
+    None when it has not moved."""
+    if not visit.moved:
+        return None
+    x, y, facing = in_mission_frame(visit)
+    off = math.hypot(x - pot.x, y - pot.y)
+    turn = math.remainder(facing - pot.facing, 2 * math.pi)
+    drift = f" (the map's drift there, {math.hypot(*visit.drift):.2f} m, taken out)" if any(visit.drift) else ""
+    return {"detail": f"{off:.2f} m from the mission's position, turned {turn:+.2f} rad{drift}",
+            "x": round(x, 3), "y": round(y, 3), "facing": round(facing, 3)}
 
 
 def _discovered(e: PotEstimate, plate_offset: float) -> dict:

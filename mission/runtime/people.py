@@ -41,7 +41,6 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Callable, Optional, Sequence
 
-import cv2
 import numpy as np
 
 from hw.interfaces import LidarScan
@@ -51,6 +50,7 @@ from hw.people_guard import PeopleGuard
 from nav.frames import compose, transform_points
 from nav.grid_geometry import GridGeometry, paste
 from nav.occupancy import OccupancyMap
+from nav.structure import long_components
 from perception.people.config import PeopleConfig
 from perception.people.explained import StaticScene
 from perception.people.tracker import PersonTracker, odom_points
@@ -142,18 +142,9 @@ class Cells:
 
 
 def first_and_structure(first: OccupancyMap, live: OccupancyMap, max_extent: float, gap: float = 0.1) -> np.ndarray:
-    """On ``live``'s grid: the first map's occupied cells, and ``live``'s occupied components
-    whose bounding box's diagonal exceeds ``max_extent`` once gaps up to ``gap`` are closed."""
-    g = live.geometry
-    occ = live.occupied().astype(np.uint8)
-    k = max(1, int(round(gap / g.resolution)))
-    closed = cv2.morphologyEx(occ, cv2.MORPH_CLOSE, np.ones((k + 1, k + 1), np.uint8))
-    n, labels, stats, _ = cv2.connectedComponentsWithStats(closed, connectivity=8)
-    diagonal = np.hypot(stats[:, cv2.CC_STAT_WIDTH], stats[:, cv2.CC_STAT_HEIGHT]) * g.resolution
-    long = diagonal > max_extent
-    long[0] = False  # the background
-    structure = long[labels] & occ.astype(bool)
-    return structure | paste(first.occupied(), first.geometry, g, False)
+    """On ``live``'s grid: the first map's occupied cells, and ``live``'s structure (``nav.structure``:
+    components whose bounding box's diagonal exceeds ``max_extent`` once gaps up to ``gap`` are closed)."""
+    return long_components(live, max_extent, gap) | paste(first.occupied(), first.geometry, live.geometry, False)
 
 
 def attach_people(robot: "Robot", map_to_odom: Callable[[], Pose2D],

@@ -4,14 +4,16 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from behaviours.visit import PotVisit
 from hw.odometry import Pose2D
 from mission.patrol.config import PatrolConfig
-from mission.patrol.map_drift import MapDrift, in_mission_frame
+from mission.patrol.map_drift import MapDrift, in_mission_frame, walls_apart
 from mission.patrol.mission_file import Mission, MissionPot
 from mission.patrol.pot_finder import PotFinder
+from nav.occupancy import OccupancyMap
 from tests.mission.test_tag_sightings import read
 
 CONFIG = PatrolConfig()
@@ -100,3 +102,39 @@ def test_a_moved_pot_is_placed_in_the_missions_frame_and_not_moved_again_after_t
     again = PotVisit(p14.id)
     assert second.place(updated, again, (read(p14.tag, 0.0, ahead + 0.07),), believed, CONFIG.tag_max_distance)
     assert not again.moved
+
+
+def test_the_first_pots_judged_without_a_drift_are_judged_again_at_the_end():
+    """A map 7 cm off everywhere: the first two pots have no neighbours to read the drift off
+    and are provisionally moved; at the end, with the row located, they are not."""
+    finder = PotFinder(MISSION, None, CONFIG)
+    ahead = MISSION.standoff - CONFIG.plate_offset - CONFIG.front_camera_mount[0]
+    visits = {}
+    for pot in ROW[:8]:
+        true = Pose2D(*MISSION.approach(pot))
+        v = visits[pot.id] = PotVisit(pot.id)
+        assert finder.place(pot, v, (read(pot.tag, 0.0, ahead),), Pose2D(true.x + 0.07, true.y, true.yaw),
+                            CONFIG.tag_max_distance)
+    first = [p.id for p in ROW[:8] if visits[p.id].moved]
+    assert first == ["P00", "P01"] and not visits["P00"].drift_known
+    changed = finder.rejudge(visits)
+    assert [p.id for p in changed] == ["P00", "P01"]
+    assert not any(v.moved for v in visits.values())
+    assert visits["P00"].drift == pytest.approx((0.07, 0.0), abs=0.01)
+
+
+def test_neighbours_beyond_a_wall_do_not_give_the_drift():
+    """A divider between x = 2 and x = 3: pots past it are judged on their own side only."""
+    grid = np.zeros((40, 200), dtype=np.int8)
+    occupancy = OccupancyMap(grid, 0.05, -1.0, -1.0)
+    occupancy.occupancy[:, int((2.5 + 1.0) / 0.05)] = 100  # the wall at x = 2.5
+    apart = walls_apart(occupancy)
+    assert apart((2.0, 0.0), (3.0, 0.0)) and not apart((3.0, 0.0), (4.0, 0.0))
+    drift = MapDrift(radius=3.0, agree=0.025)
+    drift.apart = apart
+    drift.record((1.0, 0.0), (0.10, 0.0))
+    drift.record((2.0, 0.0), (0.10, 0.0))
+    assert drift.consensus(3.0, 0.0) is None  # only the other bay's pots are near
+    drift.record((4.0, 0.0), (0.02, 0.0))
+    drift.record((5.0, 0.0), (0.02, 0.0))
+    assert drift.consensus(3.0, 0.0) == pytest.approx((0.02, 0.0))
