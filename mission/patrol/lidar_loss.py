@@ -21,8 +21,10 @@ log = logging.getLogger(__name__)
 
 class LidarLoss:
     def __init__(self, untrusted_since: Callable[[], float | None], now: Callable[[], float],
-                 lost_after: float, give_up_after: float):
-        self.untrusted_since, self.now = untrusted_since, now
+                 lost_after: float, give_up_after: float, armed: Callable[[], bool] = lambda: True):
+        self.untrusted_since, self.now, self.armed = untrusted_since, now, armed
+        """``armed``: the lidar has been seen working (navigation went active); before that a
+        missing lidar is the start-up gate's to name (the readiness cascade's ``scans``)."""
         self.lost_after, self.give_up_after = lost_after, give_up_after
         self.given_up = ""
         """Why the patrol gave up on the lidar ('' while it has not): latched."""
@@ -30,7 +32,7 @@ class LidarLoss:
 
     def lost_for(self) -> float | None:
         """Seconds the scans have been untrustworthy, once that is ``lost_after`` or more."""
-        since = self.untrusted_since()
+        since = self.untrusted_since() if self.armed() else None
         t = None if since is None else self.now() - since
         lost = t is not None and t >= self.lost_after
         if lost != self._lost:

@@ -144,7 +144,8 @@ class PatrolTree:
         if self.holds is None:
             self.holds = MissionHolds(self.robot.estop, self.clock.now, self.report.t0)
         self.lidar = LidarLoss(lambda: self.robot.monitor.untrusted_since, self.clock.now,
-                               self.config.lidar_lost_after, self.config.lidar_lost_give_up)
+                               self.config.lidar_lost_after, self.config.lidar_lost_give_up,
+                               armed=lambda: self.nav.readiness.active)
         self.root = self._build()
 
     @property

@@ -35,3 +35,13 @@ def test_gives_up_once_and_says_why():
     clock.t = 40.0
     loss.reason()
     assert loss.given_up == first  # latched
+
+
+def test_a_lidar_never_seen_is_the_start_up_gates_to_name():
+    clock = Clock()
+    armed = {"on": False}
+    loss = LidarLoss(lambda: 0.0, clock.now, lost_after=3.0, give_up_after=30.0, armed=lambda: armed["on"])
+    clock.t = 60.0
+    assert loss.reason() is None and not loss.given_up
+    armed["on"] = True
+    assert loss.reason() is not None and loss.given_up
