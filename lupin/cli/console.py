@@ -66,7 +66,9 @@ def start_child_service(world: Path | None) -> tuple[subprocess.Popen, str, str]
     # its log goes to a file, never a pipe nobody drains (a full pipe would stall the robot)
     log = tempfile.NamedTemporaryFile("w+", prefix="lupin-serve-", suffix=".log", delete=False)
     child = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=log, env=env, text=True)
-    line = child.stdout.readline()  # "lupin serve: robot ... on ENDPOINT" once it listens
+    line = child.stdout.readline()  # "lupin serve: sim backend, world ...", then "... on ENDPOINT" once it listens
+    if line.startswith("lupin serve: sim backend"):
+        line = child.stdout.readline()
     if endpoint not in line:
         stop_child(child)
         log.seek(0)
