@@ -58,6 +58,10 @@ from perception.people.tracker import PersonTracker, odom_points
 if TYPE_CHECKING:
     from mission.runtime.robot import Robot
 
+HOP = 0.3
+"""A track that moved more than this between two scans (3 m/s at 10 Hz, twice a brisk walk)
+jumped to another thing rather than walked: its walk starts again from there, m."""
+
 WALKED = 0.5
 """A track this far from where it was first seen has walked, m: more than a box's or a pot's
 seen centre shifts with the view (half a 0.6 m crouching body, a 0.3 m box corner-on)."""
@@ -79,6 +83,7 @@ class People:
         self.walked: set[int] = set()
         """Ids of the tracks that have walked: people (``confident``)."""
         self._origin: dict[int, tuple[float, float]] = {}
+        self._last: dict[int, tuple[float, float]] = {}
         self.guard: PeopleGuard | None = None
         """The people guard on the base (``attach_people``)."""
         self.scene: StaticScene | None = None
@@ -126,7 +131,13 @@ class People:
         points = odom_points(scan.angles, scan.ranges, (lidar.x, lidar.y, lidar.yaw))
         explained = self.scene.explained(transform_points(self.map_to_odom(), points))
         self.tracks = self.tracker.update(scan.stamp, points, (odom.x, odom.y, odom.yaw), explained)
-        self._origin = {p.id: self._origin.get(p.id, (p.x, p.y)) for p in self.tracks}
+        last = self._last
+        self._last = {p.id: (p.x, p.y) for p in self.tracks}
+        # a track that jumped (its detection hopped to another thing: the next unknown pot of a
+        # row, the far end of a wall) starts its walk again from where it landed
+        self._origin = {p.id: (p.x, p.y) if p.id not in self._origin or p.id not in last
+                        or np.hypot(p.x - last[p.id][0], p.y - last[p.id][1]) > HOP
+                        else self._origin[p.id] for p in self.tracks}
         self.walked = {p.id for p in self.tracks if p.id in self.walked
                        or np.hypot(p.x - self._origin[p.id][0], p.y - self._origin[p.id][1]) > WALKED}
 
