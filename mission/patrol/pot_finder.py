@@ -75,13 +75,15 @@ class PotFinder:
         visit.moved = off > self.config.moved_xy or turn > self.config.moved_yaw
 
     def rejudge(self, visits: dict[str, PotVisit]) -> list[MissionPot]:
-        """At the patrol's end: the pots whose moved verdict was made with no drift to go by
-        (the first pots of a patrol, or past a bay's divider), judged again against the drift of
-        every pot located since (the pot itself left out); the pots whose verdict changed."""
+        """At the patrol's end: the pots found moved with no drift to go by (the first pots of a
+        patrol, or past a bay's divider), judged again against the drift of every pot located
+        since (the pot itself left out); the pots no longer moved. Only a provisional ``moved``
+        is taken back, never one added: the drift grows with the patrol, so a neighbour located
+        an hour later may carry drift this pot's early read never had."""
         changed = []
         for pot in self.mission.pots:
             visit = visits.get(pot.id)
-            if visit is None or visit.located is None or visit.drift_known:
+            if visit is None or visit.located is None or visit.drift_known or not visit.moved:
                 continue
             drift = self.drift.consensus(pot.x, pot.y, skip=(pot.x, pot.y))
             if drift is None:

@@ -138,3 +138,19 @@ def test_neighbours_beyond_a_wall_do_not_give_the_drift():
     drift.record((4.0, 0.0), (0.02, 0.0))
     drift.record((5.0, 0.0), (0.02, 0.0))
     assert drift.consensus(3.0, 0.0) == pytest.approx((0.02, 0.0))
+
+
+def test_the_end_never_adds_a_moved_verdict():
+    """The first pot read in place, its neighbours an hour later with the drift grown 8 cm: the
+    end's judgement takes back only provisional moved verdicts, it does not make new ones."""
+    finder = PotFinder(MISSION, None, CONFIG)
+    ahead = MISSION.standoff - CONFIG.plate_offset - CONFIG.front_camera_mount[0]
+    visits = {}
+    for pot, off in zip(ROW[:5], (0.0, 0.08, 0.08, 0.08, 0.08)):
+        true = Pose2D(*MISSION.approach(pot))
+        v = visits[pot.id] = PotVisit(pot.id)
+        finder.place(pot, v, (read(pot.tag, 0.0, ahead),), Pose2D(true.x + off, true.y, true.yaw), CONFIG.tag_max_distance)
+    assert not visits["P00"].moved and not visits["P00"].drift_known
+    changed = [p.id for p in finder.rejudge(visits)]
+    assert changed == ["P01", "P02"]  # provisionally moved by the 8 cm with no neighbours yet: taken back
+    assert not visits["P00"].moved  # its neighbours' later drift does not make it moved
