@@ -36,7 +36,7 @@ collision monitor's holds count together against ``blocked_wait``; past it the g
 ``blocked`` and the patrol comes back to the pot after the others (a bounded wait, then retry).
 A person's keep-out reaches along their next ``predict_time`` s of walking, and while the robot
 stands inside it (a walker who does not yield is coming) it does not just stand there: it steps
-out of the way at ``EVADE_SPEED``, sideways to a walker's way or away from someone standing,
+out of the way (``nav.people_nearby``), sideways to a walker's way or away from someone standing,
 along the first direction of a fan the local costmap without people keeps free, never towards
 them.
 """
@@ -52,8 +52,9 @@ import numpy as np
 
 from hw.interfaces import ZERO_TWIST, LidarScan, Twist
 from hw.odometry import Pose2D
-from hw.people import Person, PeopleSource, nobody
+from hw.people import PeopleSource, nobody
 from nav.config import NavConfig
+from nav.people_nearby import PeopleNearby
 from nav.costmap.grid import INSCRIBED, UNKNOWN, CostGrid
 from nav.frames import compose, distance, inverse, transform_path, transform_points
 from nav.goal_checker import GoalChecker
@@ -83,14 +84,6 @@ BLOCKED_REPLAN_GAP = 0.5
 #: Room the global costmap takes in round the robot and the goal before a plan, m: the planner's
 #: 0.5 m goal tolerance and the robot's footprint fit inside it.
 COVER_MARGIN = 1.0
-#: Speed of a step out of a person's way, m/s: issue 28's most within 1.0 m of a person.
-EVADE_SPEED = 0.15
-#: How far ahead a direction to step out along must be free of pots and walls, m.
-EVADE_LOOK = 0.3
-#: A person faster than this is walking somewhere: step sideways to their way, m/s.
-WALKING = 0.2
-#: The fan of directions tried, from the preferred one out, rad.
-EVADE_FAN = np.radians([0, 30, -30, 60, -60, 90, -90, 120, -120, 150, -150, 180])
 
 
 class Costmap(Protocol):
@@ -158,6 +151,8 @@ class Navigator:
         self.controller = controller
         self.readiness = readiness
         """The start-up cascade; goals are refused until it is active (None: always active)."""
+        self.people = PeopleNearby(config, sources.people, lambda: self.localisation.map_to_odom())
+        """Where people keep the robot out, map frame, and the step out of their way."""
         self.smoother = VelocitySmoother(config.smoother)
         self.goal_checker = GoalChecker(config.goal_checker)
         mx, my, myaw = config.navigator.lidar_mount
@@ -312,7 +307,7 @@ class Navigator:
         why = ""
         if self._person_blocks:
             why = "a person in the only way"
-        elif self._goal_taken():
+        elif self.people.in_keep_out(self.goal.x, self.goal.y):
             why = "a person at the goal"
         if why != self.waiting_for:
             if why:
@@ -325,68 +320,13 @@ class Navigator:
             self.io.publish(self._evade(), now)
         return True
 
-    def _people_now(self) -> list[Person]:
-        layer = self.config.costmap.global_costmap.people
-        return [p for p in self.io.people() if p.confidence >= layer.min_confidence]
-
-    def _people_in_map(self) -> list[tuple[np.ndarray, np.ndarray, float]]:
-        """(where, where in ``predict_time``, keep_out) of every person that counts, map frame."""
-        people = self._people_now()
-        if not people:
-            return []
-        t = self.config.costmap.global_costmap.people.predict_time
-        odom = np.array([[p.x, p.y, p.x + p.vx * t, p.y + p.vy * t] for p in people])
-        m2o = self.localisation.map_to_odom()
-        now, then = transform_points(m2o, odom[:, :2]), transform_points(m2o, odom[:, 2:])
-        return [(a, b, self._keep_out(p)) for a, b, p in zip(now, then, people)]
-
-    def _keep_out(self, person: Person) -> float:
-        return person.radius + self.config.costmap.global_costmap.people.clearance + self.config.costmap.robot_radius
-
-    def _in_keep_out(self, x: float, y: float) -> bool:
-        """Is the point within a person's keep-out, their next steps included?"""
-        return any(_to_segment(np.array([x, y]), a, b) < r for a, b, r in self._people_in_map())
-
-    def _goal_taken(self) -> bool:
-        """Is the goal inside a person's keep-out (standing there would put the robot within
-        ``clearance`` of them)?"""
-        return self._in_keep_out(self.goal.x, self.goal.y)
-
     def _person_close(self) -> bool:
         """Is the robot itself inside a person's keep-out (they came to it, or are coming)?"""
         pose = self.map_pose()
-        return self._in_keep_out(pose.x, pose.y)
+        return self.people.in_keep_out(pose.x, pose.y)
 
     def _evade(self) -> Twist:
-        """A step out of the way of the nearest person whose keep-out the robot is in (module
-        docstring); zero with nobody that close or no free direction."""
-        odom = self.io.odom_pose()
-        here = np.array([odom.x, odom.y])
-        t = self.config.costmap.global_costmap.people.predict_time
-        close = [(p, _to_segment(here, np.array([p.x, p.y]), np.array([p.x + p.vx * t, p.y + p.vy * t])))
-                 for p in self._people_now()]
-        close = [(p, d) for p, d in close if d < self._keep_out(p)]
-        if not close:
-            return ZERO_TWIST
-        p = min(close, key=lambda c: c[1])[0]
-        away = here - [p.x, p.y]
-        away /= max(float(np.hypot(*away)), 1e-9)
-        prefer = away
-        if math.hypot(p.vx, p.vy) > WALKING:
-            side = np.array([-p.vy, p.vx])
-            prefer = side if side @ away >= 0 else -side
-        grid = self.local_costmap.without_people()
-        steps = np.arange(0.05, EVADE_LOOK + 1e-9, 0.05)
-        a0 = math.atan2(prefer[1], prefer[0])
-        for da in EVADE_FAN:
-            u = np.array([math.cos(a0 + da), math.sin(a0 + da)])
-            if u @ away < -0.1:
-                continue  # never towards them
-            path = here + steps[:, None] * u
-            if np.all(grid.cost_at(path[:, 0], path[:, 1], outside=0) < INSCRIBED):
-                c, s = math.cos(odom.yaw), math.sin(odom.yaw)
-                return Twist(EVADE_SPEED * (c * u[0] + s * u[1]), EVADE_SPEED * (-s * u[0] + c * u[1]), 0.0)
-        return ZERO_TWIST
+        return self.people.evade(self.io.odom_pose(), self.local_costmap.without_people())
 
     def _progressing(self, pose: Pose2D, now: float) -> bool:
         """Nav2's SimpleProgressChecker: moving ``progress_radius`` from the last checkpoint
@@ -433,7 +373,7 @@ class Navigator:
     def _only_people_block(self, pose: Pose2D) -> bool:
         """With people about, would there be a plan once they stepped aside (or is the robot in
         a person's keep-out, so that no plan can start)?"""
-        if not self._people_in_map():
+        if not self.people.in_map():
             return False
         if self._person_close():
             return True
@@ -547,10 +487,3 @@ class Navigator:
         self.io.publish(ZERO_TWIST, now)
         log.info("navigation %s%s after %.1f s", state.value, f" ({reason})" if reason else "", now - self._start)
 
-
-def _to_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
-    """Distance from ``p`` to the segment ``a``-``b``."""
-    ab = b - a
-    n = float(ab @ ab)
-    t = 0.0 if n < 1e-12 else min(max(float((p - a) @ ab) / n, 0.0), 1.0)
-    return float(np.hypot(*(p - a - t * ab)))

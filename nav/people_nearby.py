@@ -1,0 +1,106 @@
+"""Where people keep the robot out, and the step out of a person's way (issue 28 item 2).
+
+The navigator asks this for the people the costmaps' person layer counts (confidence at least
+the layer's ``min_confidence``): each person's keep-out (their radius, the ``clearance`` and the
+robot's radius) reaching along their next ``predict_time`` seconds of walking, in the map frame,
+to tell a goal a person stands on and a robot a walker is coming at. When the robot stands in a
+keep-out it does not just stand there: ``evade`` steps it out at ``EVADE_SPEED`` (the issue's
+most within 1.0 m of a person), sideways to a walker's way or away from someone standing, along
+the first direction of a fan the local costmap without people keeps free, never towards them.
+"""
+from __future__ import annotations
+
+import math
+from typing import Callable
+
+import numpy as np
+
+from hw.interfaces import ZERO_TWIST, Twist
+from hw.odometry import Pose2D
+from hw.people import Person, PeopleSource
+from nav.config import NavConfig
+from nav.costmap.grid import INSCRIBED, CostGrid
+from nav.frames import transform_points
+
+#: Speed of a step out of a person's way, m/s: issue 28's most within 1.0 m of a person.
+EVADE_SPEED = 0.15
+#: How far ahead a direction to step out along must be free of pots and walls, m.
+EVADE_LOOK = 0.3
+#: A person faster than this is walking somewhere: step sideways to their way, m/s.
+WALKING = 0.2
+#: The fan of directions tried, from the preferred one out, rad.
+EVADE_FAN = np.radians([0, 30, -30, 60, -60, 90, -90, 120, -120, 150, -150, 180])
+
+
+class PeopleNearby:
+    def __init__(self, config: NavConfig, people: PeopleSource, map_to_odom: Callable[[], Pose2D]):
+        self.layer = config.costmap.global_costmap.people
+        self.robot_radius = config.costmap.robot_radius
+        self.people, self.map_to_odom = people, map_to_odom
+
+    def counted(self) -> list[Person]:
+        """The tracker's people the person layer counts."""
+        return [p for p in self.people() if p.confidence >= self.layer.min_confidence]
+
+    def keep_out(self, person: Person) -> float:
+        return person.radius + self.layer.clearance + self.robot_radius
+
+    def in_map(self) -> list[tuple[np.ndarray, np.ndarray, float]]:
+        """(where, where in ``predict_time``, keep_out) of every person counted, map frame."""
+        people = self.counted()
+        if not people:
+            return []
+        now, then = self._segments(people)
+        m2o = self.map_to_odom()
+        now, then = transform_points(m2o, now), transform_points(m2o, then)
+        return [(a, b, self.keep_out(p)) for a, b, p in zip(now, then, people)]
+
+    def in_keep_out(self, x: float, y: float) -> bool:
+        """Is the map point within a person's keep-out, their next steps included?"""
+        return any(to_segment(np.array([x, y]), a, b) < r for a, b, r in self.in_map())
+
+    def evade(self, odom: Pose2D, grid: CostGrid) -> Twist:
+        """A step out of the way of the nearest person whose keep-out the robot (at ``odom``) is
+        in, free on ``grid`` (the local costmap without people); zero with nobody that close or
+        no free direction."""
+        people = self.counted()
+        if not people:
+            return ZERO_TWIST
+        here = np.array([odom.x, odom.y])
+        now, then = self._segments(people)
+        close = [(p, d) for p, a, b in zip(people, now, then)
+                 if (d := to_segment(here, a, b)) < self.keep_out(p)]
+        if not close:
+            return ZERO_TWIST
+        p = min(close, key=lambda c: c[1])[0]
+        away = here - [p.x, p.y]
+        away /= max(float(np.hypot(*away)), 1e-9)
+        prefer = away
+        if math.hypot(p.vx, p.vy) > WALKING:
+            side = np.array([-p.vy, p.vx])
+            prefer = side if side @ away >= 0 else -side
+        steps = np.arange(0.05, EVADE_LOOK + 1e-9, 0.05)
+        a0 = math.atan2(prefer[1], prefer[0])
+        for da in EVADE_FAN:
+            u = np.array([math.cos(a0 + da), math.sin(a0 + da)])
+            if u @ away < -0.1:
+                continue  # never towards them
+            path = here + steps[:, None] * u
+            if np.all(grid.cost_at(path[:, 0], path[:, 1], outside=0) < INSCRIBED):
+                c, s = math.cos(odom.yaw), math.sin(odom.yaw)
+                return Twist(EVADE_SPEED * (c * u[0] + s * u[1]), EVADE_SPEED * (-s * u[0] + c * u[1]), 0.0)
+        return ZERO_TWIST
+
+    def _segments(self, people: list[Person]) -> tuple[np.ndarray, np.ndarray]:
+        """Each person now and ``predict_time`` on, odom frame."""
+        t = self.layer.predict_time
+        odom = np.array([[p.x, p.y, p.x + p.vx * t, p.y + p.vy * t] for p in people])
+        return odom[:, :2], odom[:, 2:]
+
+
+def to_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
+    """Distance from ``p`` to the segment ``a``-``b``."""
+    ab = b - a
+    n = float(ab @ ab)
+    t = 0.0 if n < 1e-12 else min(max(float((p - a) @ ab) / n, 0.0), 1.0)
+    return float(np.hypot(*(p - a - t * ab)))
