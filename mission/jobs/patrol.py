@@ -198,7 +198,7 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
     tracked = robot.people.watch([(p.x, p.y) for p in mission.pots], config.patrol.pot_radius) if robot.people else nobody
     people = PersonEncounters(tracked, lambda: robot.base.odometry.pose, lambda: robot.monitor.verdict, report.t0,
                               config.nav.costmap.robot_radius)
-    report.observers.append(people)  # the tracker's engineer passes its PeopleSource here instead of nobody
+    report.observers.append(people)
     robot.scheduler.every("patrol.people", HOLDS_RATE, people.tick)
     faults = Faults({"lidar_blind": lambda: robot.monitor.fault == LIDAR_BLIND,
                      "lidar_lost": lambda: tree.lidar.lost_for() is not None}, report.t0)
