@@ -1,9 +1,9 @@
 """Camera aiming: joint angles that point the wrist camera's optical axis at a bloom, from above.
 
-``inspect`` stays the default pose: from the ideal approach pose it frames the pot's bloom.
+A preset stays the default pose: from the ideal approach pose it frames the pot's plant.
 This is for the other cases (a bloom off-centre or at another height, or a robot that stopped
 short of its ideal pose): given the bloom's position in base_link, find the pose nearest
-``inspect`` whose optical axis passes through it, inside the joint windows, looking down at
+the reference preset (``inspect`` unless told) whose optical axis passes through it, inside the joint windows, looking down at
 least ``min_look_down`` and from between ``min_range`` and ``max_range`` away.
 
 The pan angle is closed form: the camera and its axis live in the vertical plane through the
@@ -35,7 +35,7 @@ from arm.config import IkConfig, KinematicsConfig
 from arm.kinematics import camera_ray, miss_distance, planar
 from arm.presets import PRESETS
 
-#: Starting guesses after ``inspect``: the other reaching presets, for targets far from it.
+#: Starting guesses after the reference: the other reaching presets, for targets far from it.
 _STARTS = ("inspect", "pick", "place", "zero")
 
 
@@ -54,10 +54,12 @@ class AimResult:
 class CameraAim:
     """Solve once-built aiming problems; ``aim(target)`` for a target in base_link, metres."""
 
-    def __init__(self, kinematics: KinematicsConfig, config: IkConfig):
+    def __init__(self, kinematics: KinematicsConfig, config: IkConfig, reference: str = "inspect"):
         self.k = kinematics
         self.config = config
-        self.reference = np.array(PRESETS["inspect"], dtype=float)
+        self.reference = np.array(PRESETS[reference], dtype=float)
+        """The preset the answer stays nearest to (the patrol's: its ``inspect_pose``)."""
+        self._starts = (reference, *(p for p in _STARTS if p != reference))
         x = ca.SX.sym("q", 3)
         p = ca.SX.sym("p", 2 + 3)  # target R, Z in the pan plane, then the reference pose
         r, z, dr, dz = planar(x[0], x[1], x[2], kinematics, ca)
@@ -104,14 +106,15 @@ class CameraAim:
             return AimResult(False, None, reason=f"target bearing {math.degrees(bearing):.0f} deg is outside the "
                                                  f"shoulder_pan window [{math.degrees(lo):.0f}, {math.degrees(hi):.0f}]")
         best: AimResult | None = None
+        reference_start = self._starts[0]
         for pan, r in planes:
-            for start in _STARTS:
+            for start in self._starts:
                 result = self._solve(pan, r, t, start)
                 if result.ok and (best is None or not best.ok or self._cost(result.q) < self._cost(best.q) - 1e-9):
                     best = result
                 elif best is None:
                     best = result
-                if best.ok and start == "inspect":
+                if best.ok and start == reference_start:
                     break  # the basin nearest the reference pose: good enough
         return best
 

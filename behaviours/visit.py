@@ -24,7 +24,8 @@ class PotVisit:
     """The robot's map pose (its belief) where it stands for the pot: taken when the approach
     succeeded, and again when the wrist is aimed (a loop closure in between moves it)."""
     view: str | None = None
-    """The arm pose the wrist frame is taken from: 'inspect', or 'aim' (IK, off the ideal pose)."""
+    """The arm pose the wrist frame is taken from: the patrol's inspect preset ('inspect_plant'), or
+    'aim' (IK, off the ideal pose)."""
     wrist: Frame | None = None
     flower: FlowerFrame | None = None
     """The detector's reading of ``wrist``; None when no wrist frame was taken."""

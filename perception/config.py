@@ -56,6 +56,13 @@ class FlowerConfig(Strict):
     14, none at 5, no pink bloom lost)."""
     bug: HsvRange = HsvRange(v_hi=49)
     """The dark pest spot (upstream: any H, any S, V < 50)."""
+    leaf: HsvRange = HsvRange(h_lo=35, h_hi=85, s_lo=80, v_lo=50)
+    """Leaf green: where a dark spot is a pest *on a leaf* (issue 30: pests sit on leaves at
+    least as often as on flowers; upstream looked on blooms only). Not tuned: the green band
+    of OpenCV hue (35..85 is 70..170 deg), saturated, and brighter than the pest class so the two
+    never share a pixel. The sim's foliage reads H 53..58, S 150..165, V 80..180 at the inspect
+    view; a real leaf's hue and its shaded side should be checked on pictures
+    (``lupin detect flower --annotate``) before this is trusted on the robot."""
     work_width: int = Field(320, ge=64, le=4096)
     """Frames are shrunk to this width before detection, px. Pixel sizes below are for a
     640-wide frame (seed: 640x480) and are scaled to it. 320 keeps the sim's bloom at
@@ -79,6 +86,17 @@ class FlowerConfig(Strict):
     shadow or a plate's ink beside a bloom ~0 (tests/perception/test_flower_detector.py)."""
     bug_ring_px: int = Field(4, ge=1, le=31)
     """Width of that ring, px."""
+    min_leaf_ring: float = Field(0.05, ge=0, le=1)
+    """Least share of the ring around a blob (``bug_ring_px`` wide) that must be leaf green for
+    the blob to be a bloom: a bloom grows on a plant. Issue 30's view takes in more of what lies
+    behind the plant, and the pale wall behind a row by a wall (H 80..87, S 32..36) and a plate's
+    sunlit edge (S 24) fall in ``white``. A choice, not tuned: every bloom of the sim sits on
+    its foliage, which holds far more than 5 % of its ring; set 0 to turn the rule off."""
+    pest_confidence_area_px: int = Field(200, ge=1)
+    """Area at which a pest's confidence reaches its enclosure share, px (640-wide frame): its
+    confidence = the share of its ring that is its bloom (or leaf) x min(1, area / this). A
+    choice, not tuned: ten times the smallest spot that counts, a fifth of the sim's pest at
+    the inspect view (~1,000 px), so a whole pest in view is sure and a sliver is not."""
 
 
 class CameraModelConfig(Strict):

@@ -1,7 +1,8 @@
 """What the detectors report: small frozen records the mission stores as they are.
 
-A flower frame is a tuple of :class:`Bloom` (class, centroid, area, confidence, pest) with the
-per-frame summary the patrol report needs (dominant class, its count, any pest). A tag read is
+A flower frame is a tuple of :class:`Bloom` (class, centroid, area, confidence, pest) and a
+tuple of :class:`Pest` (on a bloom or on a leaf, centroid, area, confidence) with the per-frame
+summary the patrol report needs (dominant class, its count, any pest). A tag read is
 a :class:`TagRead`: id, corners, pose in the camera frame (OpenCV axes: x right, y down, z
 forward), distance and off-axis angle. ``as_dict`` gives the JSON of spec/cli.md.
 """
@@ -33,10 +34,29 @@ class Bloom:
 
 
 @dataclass(frozen=True)
+class Pest:
+    on: str
+    """What the dark spot sits on: 'bloom' or 'leaf'."""
+    centroid: tuple[float, float]
+    """Pixel (x, y) of the spot's centre of mass."""
+    area: int
+    """Spot area, px."""
+    confidence: float
+    """0..1: the share of the ring around the spot that is its bloom (or leaf) x
+    min(1, area / pest_confidence_area_px)."""
+
+    def as_dict(self) -> dict:
+        return {"on": self.on, "centroid": [round(c, 1) for c in self.centroid], "area": self.area,
+                "confidence": round(self.confidence, 3)}
+
+
+@dataclass(frozen=True)
 class FlowerFrame:
-    """One wrist frame's blooms, largest first."""
+    """One wrist frame's blooms and pests, largest first."""
 
     blooms: tuple[Bloom, ...] = ()
+    pests: tuple[Pest, ...] = ()
+    """Every pest seen, on a bloom (that bloom's ``bug`` is set) or on a leaf."""
 
     @property
     def flower(self) -> str:
@@ -55,8 +75,13 @@ class FlowerFrame:
 
     @property
     def bug(self) -> bool:
-        """A pest on any bloom."""
-        return any(b.bug for b in self.blooms)
+        """A pest on the plant: on any bloom or on a leaf."""
+        return bool(self.pests) or any(b.bug for b in self.blooms)
+
+    @property
+    def pest(self) -> Pest | None:
+        """The surest pest (None: no pest)."""
+        return max(self.pests, key=lambda p: p.confidence, default=None)
 
     @property
     def confidence(self) -> float:
@@ -65,7 +90,7 @@ class FlowerFrame:
 
     def as_dict(self) -> dict:
         return {"class": self.flower, "count": self.count, "bug": self.bug,
-                "detections": [b.as_dict() for b in self.blooms]}
+                "detections": [b.as_dict() for b in self.blooms], "pests": [p.as_dict() for p in self.pests]}
 
 
 @dataclass(frozen=True)

@@ -1,5 +1,5 @@
-"""Scoring detectors against ground truth: confusion matrix, precision / recall, pest rates,
-tag-id accuracy and pose error. Pure functions over plain lists, so the sim harness
+"""Scoring detectors against ground truth: confusion matrix, precision / recall, pest rates
+(overall, and on blooms and on leaves apart), tag-id accuracy and pose error. Pure functions over plain lists, so the sim harness
 (lupin/bench/perception.py), the tests and a future real-photo set all score alike.
 
 Truth for a frame is what the camera could see, not what the pot holds: a bloom pushed out of
@@ -69,6 +69,37 @@ def score_flowers(truth: Sequence[Optional[str]], predicted: Sequence[str],
         bug_recall=_ratio(sum(bugs), len(bugs)), false_bug_rate=_ratio(sum(clean), len(clean)),
         bug_frames=len(bugs),
         flowering_accuracy=_ratio(sum(confusion[c][c] for c in flowering), n_flowering), flowering_frames=n_flowering)
+
+
+PEST_SITES = ("bloom", "leaf")
+
+
+@dataclass(frozen=True)
+class PestScore:
+    """Pests judged per site (issue 30: a pest on a leaf is as much a pest as one on a bloom)."""
+
+    recall: dict[str, Optional[float]]
+    """Site -> share of the frames with a visible pest there in which a pest was reported."""
+    frames: dict[str, int]
+    """Site -> frames with a visible pest there (the recall's denominator)."""
+    false_rate: Optional[float]
+    """Share of the frames with no pest in view in which one was reported (any site)."""
+    false_on: dict[str, Optional[float]]
+    """Site -> share of those frames in which a pest was reported on that site."""
+    clean_frames: int
+    """Frames with no pest in view (the false rates' denominator)."""
+
+
+def score_pests(truth: Sequence[Optional[bool]], truth_on: Sequence[Optional[str]],
+                predicted_on: Sequence[Sequence[str]], sites: Sequence[str] = PEST_SITES) -> PestScore:
+    """``truth[i]``: a pest in view (None: marginal, skipped); ``truth_on[i]``: the site of the
+    frame's pest; ``predicted_on[i]``: the sites of the pests the detector reported."""
+    found = {s: [bool(p) for t, o, p in zip(truth, truth_on, predicted_on) if t is True and o == s] for s in sites}
+    clean = [set(p) for t, p in zip(truth, predicted_on) if t is False]
+    return PestScore(
+        recall={s: _ratio(sum(v), len(v)) for s, v in found.items()}, frames={s: len(v) for s, v in found.items()},
+        false_rate=_ratio(sum(bool(p) for p in clean), len(clean)),
+        false_on={s: _ratio(sum(s in p for p in clean), len(clean)) for s in sites}, clean_frames=len(clean))
 
 
 def rotation_error(rvec: Sequence[float], r_true: np.ndarray) -> float:

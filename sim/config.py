@@ -104,6 +104,14 @@ class GreenhouseGeometry(_Strict):
     the tag head-on from the approach pose."""
     wall_height: float = 2.0
     """Greenhouse wall height, m (world spec: walls 2.0 m high)."""
+    leaf_pest_share: float = Field(1 / 3, ge=0, le=1)
+    """Share of the pests on flowering plants that the sim draws on a leaf rather than on a
+    bloom (a plant with no bloom always has its pest on a leaf). Growers' pests (aphids,
+    whitefly, thrips) sit on leaves at least as often as on flowers (issue 30), and a detector
+    that only looks on blooms must not pass. The world file says only that a plant has a pest
+    (spec/world.md); which plant has it where is drawn from the world's name and the pot's id
+    (``sim.pests``), so the same file always draws the same plant. 0: every pest of a
+    flowering plant on its first bloom."""
 
 
 class SimConfig(_Strict):

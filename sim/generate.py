@@ -29,7 +29,10 @@ from the wall, where the robot must pass them in the cross aisle.
 Each pot gets a unique tag (1, 2, 3, ...: AprilTag 36h11 has ids 0..586, so at most 586
 pots), a seeded flower colour, 1..3 blooms and a climate reading; with 3 or more pots at least
 one pot has no bloom (``none``) and at least one has a pest (``bug``), as the spec asks ("some
-none, some bug"). Same arguments, same world: every draw comes from ``random.Random(seed)``.
+none, some bug"); from ``LEAF_PEST_POTS`` pots on, a pot with no bloom has a pest too (its pest
+is on a leaf, spec/world.md; the sim puts some flowering plants' pests on a leaf as well,
+``sim.pests``). Same arguments, same world: every draw comes from ``random.Random(seed)`` (the
+pests of plants with no bloom from their own stream, so adding them moved no pot).
 """
 from __future__ import annotations
 
@@ -72,6 +75,10 @@ to spare (a greenhouse door for carts is 1.2-1.5 m)."""
 DOOR_SPACING = 6.0
 """Most a robot walks along a divider to reach a doorway, m: doorways at both ends and at least
 every this many metres between."""
+
+LEAF_PEST_POTS = 10
+"""From this many pots, a pot with no bloom has a pest too (about one in three of them, at least
+one): a greenhouse of a dozen pots already shows a pest on a plant with no bloom."""
 
 MAX_WALKERS = 50
 """Largest --walkers accepted."""
@@ -116,6 +123,7 @@ def generate_world(rows: int, pots_per_row: int, seed: int, name: str | None = N
         )
     rng = random.Random(seed)
     flowers, bugs = _flower_mix(count, rng)
+    _leaf_pests(flowers, bugs, random.Random(f"{seed}-pests"))
     width = max(2, len(str(count)))
     pots: list[Pot] = []
     climate: dict[int, Climate] = {}
@@ -205,6 +213,16 @@ def _flower_mix(count: int, rng: random.Random) -> tuple[list[str], list[bool]]:
         for k in rng.sample(flowering, max(1, len(flowering) // 10)):
             bugs[k] = True
     return flowers, bugs
+
+
+def _leaf_pests(flowers: list[str], bugs: list[bool], rng: random.Random) -> None:
+    """From ``LEAF_PEST_POTS`` pots on, about one pot in three with no bloom (at least one) gets a
+    pest, in place."""
+    if len(flowers) < LEAF_PEST_POTS:
+        return
+    bare = [k for k, f in enumerate(flowers) if f == "none"]
+    for k in rng.sample(bare, max(1, len(bare) // 3)):
+        bugs[k] = True
 
 
 def _climate(rng: random.Random) -> Climate:

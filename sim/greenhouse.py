@@ -7,7 +7,8 @@ world file describes, with the fixed geometry of :class:`sim.config.GreenhouseGe
 
 - a floor plane over [0, x] x [0, y] and four 2 m walls around it;
 - per pot, a frame ``pot_<id>`` (pot centre on the floor, +x along ``facing``) holding the
-  terracotta pot (collides), foliage, 1..3 blooms and the optional pest spot (visual only),
+  terracotta pot (collides), foliage, 1..3 blooms and the optional pest spot (visual only; on a
+  bloom or a back leaf, as ``sim.pests`` places it),
   and, if the pot has a tag, the tag plate ``tag_<id>`` on the facing side, its centre at
   ``plate_height`` (the front camera's optical height), printed with the 36h11 tag. A frame, not
   a body: the pot's geoms belong to the world body, static, so collision's broad phase has no
@@ -49,6 +50,7 @@ import mujoco
 
 from sim.apriltag import PAPER_RGB, write_tag_png
 from sim.config import GreenhouseGeometry
+from sim.pests import PestSite, pest_site
 from sim.walkers import CROUCH_HALF_DEPTH, CROUCH_HALF_WIDTH
 from sim.world import Obstacle, Pot, World
 
@@ -89,6 +91,9 @@ _BLOOM_XY = {
     3: ((0.055, 0.042), (0.050, -0.045), (-0.010, 0.000)),
 }
 
+BLOOM_Z = 0.062
+"""Height of the blooms' centres above the pot's rim, m."""
+
 _FOLIAGE = (  # (x, y, z above the pot rim, radius, material): a low mound of leaves, lower
     (0.000, 0.000, 0.012, None, "foliage"),  # on the aisle side (+x) so blooms show over it
     (0.050, 0.038, 0.008, 0.034, "foliage_light"),
@@ -127,7 +132,7 @@ def greenhouse_xml(world: World, geometry: GreenhouseGeometry | None, asset_dir:
         )
 
     body = [_floor_and_walls(fx, fy, g)]
-    body += [_pot(pot, g) for pot in world.pots]
+    body += [_pot(pot, g, world.name) for pot in world.pots]
     body += [_obstacle(i, box) for i, box in enumerate(world.obstacles)]
     body += [_spare_box(k) for k in range(SPARE_BOXES)]
     body += [_walker(w) for w in world.walkers]
@@ -220,7 +225,24 @@ def _floor_and_walls(fx: float, fy: float, g: GreenhouseGeometry) -> str:
     return "\n".join(lines)
 
 
-def _pot(pot: Pot, g: GreenhouseGeometry) -> str:
+def _pest_place(site: PestSite, pot: Pot, h: float) -> str:
+    """The pest's shape and place in the pot frame: a dark flat spot (1.3 x 1.1 cm) on the top
+    of its first bloom, or lying on its leaf's surface where the leaf faces up, outwards and a
+    little towards the aisle (the side the wrist camera sees it from)."""
+    shape = 'type="ellipsoid" size="0.013 0.011 0.007" material="pest"'
+    if site.on == "bloom":
+        x, y = _BLOOM_XY[pot.blooms][site.index]
+        return f'{shape} pos="{x + 0.008:.4f} {y:.4f} {h + BLOOM_Z + 0.014:.4f}"'
+    x, y, dz, radius, _ = _FOLIAGE[site.index]
+    n = (0.5, math.copysign(0.35, y), 0.8)
+    norm = math.sqrt(sum(c * c for c in n))
+    n = tuple(c / norm for c in n)
+    r = radius - 0.002  # half the spot's thickness stands proud of the leaf
+    return (f'{shape} pos="{x + r * n[0]:.4f} {y + r * n[1]:.4f} {h + dz + r * n[2]:.4f}" '
+            f'zaxis="{n[0]:.4f} {n[1]:.4f} {n[2]:.4f}"')
+
+
+def _pot(pot: Pot, g: GreenhouseGeometry, world_name: str) -> str:
     r, h = g.pot_radius, g.pot_height
     pid = pot.id
     lines = [f'    <frame name={quoteattr("pot_" + pid)} pos="{pot.x:.4f} {pot.y:.4f} 0" '
@@ -240,18 +262,15 @@ def _pot(pot: Pot, g: GreenhouseGeometry) -> str:
         lines.append("      " + _visual(
             f"pot_{pid}_leaf_{k}", f'{shape} pos="{x:.4f} {y:.4f} {h + dz:.4f}" material="{material}"'))
     if pot.flower != "none":
-        bloom_z = h + 0.062
+        bloom_z = h + BLOOM_Z
         for k, (x, y) in enumerate(_BLOOM_XY[pot.blooms]):
             lines.append("      " + _visual(
                 f"pot_{pid}_bloom_{k}",
                 f'type="ellipsoid" size="0.032 0.032 0.018" pos="{x:.4f} {y:.4f} {bloom_z:.4f}" '
                 f'material="bloom_{pot.flower}"'))
-        if pot.bug:
-            x, y = _BLOOM_XY[pot.blooms][0]
-            lines.append("      " + _visual(
-                f"pot_{pid}_pest",
-                f'type="ellipsoid" size="0.013 0.011 0.007" pos="{x + 0.008:.4f} {y:.4f} {bloom_z + 0.014:.4f}" '
-                'material="pest"'))
+    site = pest_site(world_name, pot, g.leaf_pest_share)
+    if site is not None:
+        lines.append("      " + _visual(f"pot_{pid}_pest", _pest_place(site, pot, h)))
     if pot.tag is not None:
         # A card tangent to the pot on its facing side (+x), centred at plate_height, with the
         # printed tag as a thin textured skin on its front face (texture row 0 at the top). The

@@ -78,7 +78,8 @@ class Pot(StrictEntry):
     flower: Literal["red", "white", "pink", "none"]
     """Bloom colour, one of the HSV detector's classes, or ``none`` for no bloom."""
     bug: bool = False
-    """True: a dark pest spot on the bloom, an anomaly the robot must report."""
+    """True: a pest on the plant, an anomaly the robot must report: a dark spot on a bloom, or on a
+    leaf of a plant with no bloom (spec/world.md; where exactly: ``sim.pests``)."""
     blooms: int = Field(1, ge=1, le=3)
     """How many blooms, 1..3 (ignored for ``flower: none``)."""
 

@@ -14,6 +14,12 @@ class PatrolConfig(BaseModel):
     """Arm preset between pots: ``home``, the measured minimum-gravity rest pose. Not the seed's
     ``tuck`` ("folded for travel"): folded, the arm hangs in front of the front camera and hides
     the tag plate at every approach pose (seen in the sim's front frames)."""
+    inspect_pose: str = "inspect_plant"
+    """Arm preset the wrist frame is taken from at the ideal approach pose (and the reference the
+    IK look stays nearest to elsewhere): ``inspect_plant``, which holds the whole plant top in
+    the frame under the arm's real sag, not the seed's ``inspect``, which frames the plant's
+    front edge and loses a back bloom or leaf when the arm sags (arm/presets.py; issue 30: the
+    bloom was in view in 51 % of the ``perception.flower`` frames)."""
     arm_timeout: float = Field(15.0, gt=0)
     """Seconds for one arm move to arrive (a full-span move at 0.6 rad/s takes ~3 s)."""
     settle: float = Field(0.3, ge=0)
@@ -27,7 +33,7 @@ class PatrolConfig(BaseModel):
     the cascade's own 20 s ceiling, which names the missing stage first."""
     aim_xy: float = Field(0.03, gt=0)
     """The robot stopped this far (m) from its ideal approach pose, by its own belief: aim the
-    wrist camera with IK at where ``inspect`` would have looked, instead of taking ``inspect``.
+    wrist camera with IK at where ``inspect_pose`` would have looked, instead of taking it.
     Inside the goal checker's 0.25 m tolerance a bloom can leave the inspect frame (the
     perception bench shows it at the tolerance's edge)."""
     aim_yaw: float = Field(0.05, gt=0)

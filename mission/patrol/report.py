@@ -13,7 +13,7 @@ arm_unavailable     the arm could not take the pot's inspection pose (latched se
                     controller): the flower is unknown, the tag is still read
 no_image            a camera gave no fresh frame in time (the step is recorded without it)
 no_bloom            the wrist frame shows no bloom
-bug                 a pest spot on a bloom
+bug                 a pest spot on a bloom or on a leaf (the detail says which, and how sure)
 no_tag              no tag within ``patrol.tag_max_distance`` of the front camera
 tag_mismatch        the pot's tag is not the one the mission expects
 ==================  ==========================================================================
@@ -129,7 +129,10 @@ class PatrolReport:
             if f.flower == "none":
                 anomalies.append(("no_bloom", "no bloom in the wrist frame"))
             if f.bug:
-                anomalies.append(("bug", f"dark spot on a {f.flower} bloom"))
+                pest = f.pest
+                where = "a leaf" if pest is not None and pest.on == "leaf" else f"a {f.flower} bloom"
+                sure = f" (confidence {pest.confidence:.2f})" if pest is not None else ""
+                anomalies.append(("bug", f"dark spot on {where}{sure}"))
         if visit.front is not None and "search" not in visit.failures:  # not found: no plate to judge
             tag = self.pots_tag(visit)
             entry["tag_read"] = tag.id if tag is not None else None

@@ -25,7 +25,7 @@
                       moved P01                                 Selector: in place, or approach again
                                                                 (closely: where its tag put a moved
                                                                 pot, or where a far stop missed it)
-                      wrist P01                                 arm to inspect (or aim) > DetectFlower,
+                      wrist P01                                 arm to inspect_plant (or aim) > DetectFlower,
                                                                 or note what failed
                       record P01
                       stow arm P01                              arm to travel, or note it
@@ -61,19 +61,16 @@ is still in its travel pose (the front camera does not need the arm).
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Callable
 
-import numpy as np
 import py_trees
 from py_trees.behaviour import Behaviour
 from py_trees.common import OneShotPolicy, ParallelPolicy, Status
 from py_trees.composites import Parallel, Selector, Sequence
 from py_trees.decorators import OneShot, Retry
 
-from arm.aim import CameraAim, view_target
-from arm.presets import PRESETS, preset
+from arm.presets import preset
 from behaviours.arm import MoveArm
 from behaviours.guard import Hold
 from behaviours.navigate import NavigateTo
@@ -86,6 +83,7 @@ from hw.interfaces import Clock
 from hw.odometry import Pose2D
 from mission.patrol.config import PatrolConfig
 from mission.patrol.holds import MissionHolds
+from mission.patrol.inspect_view import InspectView
 from mission.patrol.lidar_loss import LidarLoss
 from mission.patrol.mission_file import Mission, MissionPot
 from mission.patrol.pot_finder import PotFinder
@@ -94,7 +92,7 @@ from nav.path_lengths import path_lengths
 from mission.patrol.report import PatrolReport
 from mission.runtime.heal import heal_controllers
 from mission.runtime.robot import Robot
-from nav.frames import compose, distance, inverse
+from nav.frames import distance
 from nav.navigator import Navigator
 from perception.camera_pipeline import CameraPipeline
 from perception.flower_detector import FlowerDetector
@@ -133,9 +131,7 @@ class PatrolTree:
 
     def __post_init__(self) -> None:
         self.finder = PotFinder(self.mission, self.nav, self.config)
-        arm = self.robot.config.arm
-        self.aim = CameraAim(arm.kinematics, arm.ik)
-        self._inspect_view = view_target(PRESETS["inspect"], arm.kinematics, self.config.bloom_height)
+        self.view = InspectView(self.robot.config.arm, self.config)
         self.detector = FlowerDetector(self.robot.config.perception.flower)
         start = self.nav.map_pose()
         self.order = visit_order(self.mission, (start.x, start.y),
@@ -159,22 +155,13 @@ class PatrolTree:
         return self.finder.approach(pot, self.visits[pot.id])
 
     def inspect_goal(self, pot: MissionPot, visit: PotVisit) -> tuple[object, str]:
-        """``inspect`` from the ideal approach pose; from elsewhere, the IK pose that looks at
-        the spot ``inspect`` would have framed from the ideal pose (``inspect`` again when no
-        pose inside the windows can). Where the robot is, is its belief now, not on arrival: it
-        stands still, and the goal is in the map as it is now (a loop closure since arrival
-        moves both)."""
-        ideal = self.approach_goal(pot)
+        """The patrol's inspect preset from the ideal approach pose; from elsewhere, the IK pose
+        that looks at the spot it would have framed (``mission.patrol.inspect_view``). Where the
+        robot is, is its belief now, not on arrival: it stands still, and the goal is in the map
+        as it is now (a loop closure since arrival moves both)."""
         here = visit.arrived = self.nav.map_pose()
-        off = compose(inverse(ideal), here)
-        visit.view = "inspect"
-        if math.hypot(off.x, off.y) > self.config.aim_xy or abs(off.yaw) > self.config.aim_yaw:
-            spot = compose(inverse(here), compose(ideal, Pose2D(self._inspect_view[0], self._inspect_view[1], 0.0)))
-            aimed = self.aim.aim(np.array([spot.x, spot.y, self._inspect_view[2]]))
-            if aimed.ok:
-                visit.view = "aim"
-                return aimed.q, "aim"
-        return preset("inspect"), "inspect"
+        goal, visit.view = self.view.goal(self.approach_goal(pot), here)
+        return goal, visit.view
 
     # --- building blocks -----------------------------------------------------------------
     def _timed(self, child: Behaviour, duration: float) -> Timeout:

@@ -100,7 +100,7 @@ def test_each_pot_records_its_errors_climate_and_images(default_patrol):
         assert entry["approach_error"]["xy"] < 0.25 and entry["approach_error"]["yaw"] < 0.12
         assert entry["truth_error"]["xy"] < 0.1 and entry["truth_error"]["yaw"] < 0.12
         off = entry["approach_error"]["xy"] > 0.03 or entry["approach_error"]["yaw"] > 0.05
-        assert entry["wrist_view"] == ("aim" if off else "inspect")  # IK only off the ideal pose
+        assert entry["wrist_view"] == ("aim" if off else "inspect_plant")  # IK only off the ideal pose
         assert entry.get("climate") == climate.get(entry["tag_read"])
         assert entry["images"] == [f"{entry['id']}_front.jpg", f"{entry['id']}_wrist.jpg"]
         for name in entry["images"]:

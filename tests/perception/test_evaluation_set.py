@@ -1,6 +1,6 @@
 """The fixed-seed evaluation set: 16 randomized pots from the harness of ``lupin bench
-perception`` (lighting jitter, approach noise inside the goal tolerance, the arm moved to
-``inspect`` by its controller), scored against the sim's truth. The benchmark runs the full
+perception`` (lighting jitter, approach noise inside the goal tolerance, the arm moved to the
+patrol's view by its controller), scored against the sim's truth. The benchmark runs the full
 set; this keeps a small one in every test run."""
 from __future__ import annotations
 
@@ -35,6 +35,10 @@ def test_flower_figures(evaluation):
     # the flowering figure counts only frames with a bloom in view: it can be no easier
     assert f["flowering_frames"] == sum(sum(f["confusion"][c].values()) for c in ("red", "white", "pink"))
     assert f["bug_frames"] >= 1 and f["false_bug_rate"] == 0.0
+    # pests judged on blooms and on leaves apart; every frame counted once
+    assert sum(f["pest_frames"].values()) == f["bug_frames"] and f["pest_frames"]["leaf"] >= 1
+    assert set(f["false_pests"]) == {"any", "bloom", "leaf"} and f["false_pests"]["any"] == 0.0
+    assert f["plant_in_view"] >= 0.75 and sum(f["views"].values()) == SHOTS
     assert f["eval_seeds"] == list(SEEDS) and f["tuning_seeds"] == list(TUNING_SEEDS)
 
 
@@ -49,9 +53,10 @@ def test_the_arm_is_moved_by_its_controller_and_sags():
     shots = list(render_shots(LupinConfig(), SEEDS[:1], 2))
     for s in shots:
         assert s.arm_reached and s.world_seed == SEEDS[0]
-        # a teleported arm sits exactly on the preset; the controller leaves gravity's sag
+        # a teleported arm sits exactly on its goal; the controller leaves gravity's sag
         assert 0.005 < s.arm_error < 0.1
-    assert np.any(np.asarray(PRESETS["inspect"]) != 0) and len(ARM_JOINTS) == 4
+        assert s.view in ("inspect_plant", "aim")  # the patrol's view, as the patrol chooses it
+    assert np.any(np.asarray(PRESETS["inspect_plant"]) != 0) and len(ARM_JOINTS) == 4
 
 
 def test_eval_seeds_are_disjoint_from_the_tuning_seeds():

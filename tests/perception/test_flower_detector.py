@@ -1,4 +1,4 @@
-"""The HSV flower detector on frames the sim renders at ``inspect``, on JPEG copies and resized
+"""The HSV flower detector on frames the sim renders at the patrol's inspect view, on JPEG copies and resized
 copies of them, on drawn frames for the pest rule, and on garbage."""
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import pytest
 
 from perception.config import FlowerConfig, HsvRange
 from perception.flower_detector import FlowerDetector, _lookup_tables
-from tests.perception.conftest import POTS
+from tests.perception.conftest import LEAF, POTS
 
 DETECT = FlowerDetector()
 
@@ -62,6 +62,19 @@ def test_a_pest_on_a_bloom_is_reported_on_that_bloom(scenes, pot_id):
 
 
 @pytest.mark.slow
+@pytest.mark.parametrize("pot_id", list(LEAF))
+def test_a_pest_on_a_leaf_is_found_at_the_inspect_view(leaf_scenes, pot_id):
+    """Issue 30: a pest on a leaf, of a plant with no bloom or of a flowering one, is a pest."""
+    scene = leaf_scenes[pot_id]
+    flower, blooms = LEAF[pot_id][:2]
+    frame = DETECT(scene.wrist)
+    assert scene.bug_truth is True  # the pest is in view
+    assert frame.bug and [p.on for p in frame.pests] == ["leaf"] and frame.pest.confidence > 0.8
+    assert not any(b.bug for b in frame.blooms)  # on no bloom
+    assert (frame.flower, frame.count) == (flower, 0 if flower == "none" else blooms)
+
+
+@pytest.mark.slow
 @pytest.mark.parametrize("pot_id", ["P01", "P02", "P03", "P05", "P07"])
 def test_no_pest_on_clean_blooms(scenes, pot_id):
     assert not DETECT(scenes[pot_id].wrist).bug
@@ -100,23 +113,73 @@ def test_a_big_photo_reports_in_its_own_pixels(scenes):
         assert b.area == pytest.approx(16 * s.area, rel=0.05)
 
 
-def _drawn(spot_at: tuple[int, int] | None) -> np.ndarray:
-    """A green field with one red disc (BGR), and a dark spot where asked."""
-    img = np.full((480, 640, 3), (40, 140, 40), np.uint8)
+def _drawn(spot_at: tuple[int, int] | None, field=(40, 140, 40)) -> np.ndarray:
+    """A field (leaf green unless asked) with one red disc (BGR), and a dark spot where asked."""
+    img = np.full((480, 640, 3), field, np.uint8)
     cv2.circle(img, (320, 240), 70, (40, 20, 220), -1)
     if spot_at is not None:
         cv2.circle(img, spot_at, 14, (10, 10, 10), -1)
     return img
 
 
-def test_a_dark_spot_inside_a_bloom_is_a_pest_one_beside_it_is_not():
+GREY = (110, 110, 110)
+"""Floor or soil: neither bloom nor leaf."""
+
+
+def test_a_dark_spot_inside_a_bloom_is_a_pest_on_it_one_in_the_leaves_a_pest_on_a_leaf():
     inside = DETECT(_drawn((330, 230)))
     beside = DETECT(_drawn((320, 240 + 70 + 25)))   # in the leaves, just below the bloom
     edge = DETECT(_drawn((320, 240 + 70)))          # half on the rim: half the ring is leaf
-    assert inside.bug and inside.flower == "red"
-    assert not beside.bug and beside.flower == "red"
-    assert not edge.bug
+    assert inside.bug and inside.flower == "red" and inside.blooms[0].bug
+    assert [p.on for p in inside.pests] == ["bloom"] and inside.pest.confidence > 0.8
+    for frame in (beside, edge):
+        assert frame.bug and frame.flower == "red" and not frame.blooms[0].bug  # not on the bloom
+        assert [p.on for p in frame.pests] == ["leaf"] and frame.pest.confidence > 0.8
+    assert beside.pest.centroid == pytest.approx((320, 335), abs=1.5)
     assert not DETECT(_drawn(None)).bug
+
+
+def _on_soil(spot_at: tuple[int, int] | None) -> np.ndarray:
+    """Floor or soil (grey), a ring of leaves and a red bloom in it, and a dark spot where asked."""
+    img = np.full((480, 640, 3), GREY, np.uint8)
+    cv2.circle(img, (320, 240), 85, (40, 140, 40), -1)
+    cv2.circle(img, (320, 240), 70, (40, 20, 220), -1)
+    if spot_at is not None:
+        cv2.circle(img, spot_at, 14, (10, 10, 10), -1)
+    return img
+
+
+def test_a_dark_spot_on_the_floor_or_soil_is_no_pest():
+    frame = DETECT(_on_soil((320, 240 + 70 + 45)))  # clear of the leaves
+    assert frame.flower == "red" and not frame.bug and frame.pests == ()
+    frame = DETECT(_on_soil((330, 230)))
+    assert frame.bug and [p.on for p in frame.pests] == ["bloom"]  # on the bloom it still is one
+
+
+def test_a_bloom_coloured_blob_with_no_leaf_around_it_is_no_bloom():
+    """A pale wall behind the row or a plate's sunlit edge reads white; a bloom grows on a plant."""
+    wall = np.full((480, 640, 3), GREY, np.uint8)
+    cv2.rectangle(wall, (0, 0), (639, 60), (235, 240, 238), -1)  # the wall along the top
+    cv2.circle(wall, (320, 260), 90, (40, 140, 40), -1)  # a plant with no bloom
+    assert DETECT(wall).flower == "none" and DETECT(wall).blooms == ()
+    cv2.circle(wall, (320, 260), 50, (235, 240, 238), -1)  # now it has a white bloom
+    frame = DETECT(wall)
+    assert (frame.flower, frame.count) == ("white", 1) and frame.blooms[0].centroid == pytest.approx((320, 260), abs=2)
+
+
+def test_a_pest_on_a_plant_with_no_bloom():
+    img = np.full((480, 640, 3), GREY, np.uint8)
+    cv2.circle(img, (320, 240), 90, (40, 140, 40), -1)  # the leaves
+    cv2.circle(img, (300, 220), 14, (10, 10, 10), -1)
+    frame = DETECT(img)
+    assert frame.flower == "none" and frame.blooms == () and frame.bug
+    assert [p.on for p in frame.pests] == ["leaf"] and frame.pest.centroid == pytest.approx((300, 220), abs=1.5)
+    assert frame.as_dict()["pests"][0]["on"] == "leaf"
+    sliver = np.full((480, 640, 3), GREY, np.uint8)
+    cv2.circle(sliver, (320, 240), 90, (40, 140, 40), -1)
+    cv2.circle(sliver, (300, 220), 4, (10, 10, 10), -1)  # ~50 px: a pest, but a small one
+    small = DETECT(sliver)
+    assert small.bug and small.pest.confidence < 0.5 < frame.pest.confidence
 
 
 def test_tiny_blobs_are_dropped():
@@ -140,7 +203,7 @@ def test_garbage_frames_give_no_bloom(garbage):
 def test_lookup_tables_match_the_hsv_boxes():
     """The bit tables classify exactly like the plain per-class boxes, wrap-around included."""
     c = FlowerConfig()
-    lut, label_lut, bug_lut = _lookup_tables(list(c.classes.values()), c.bug)
+    lut, label_lut, bug_lut, leaf_lut = _lookup_tables(list(c.classes.values()), c.bug, c.leaf)
     rng = np.random.default_rng(1)
     hsv = np.stack([rng.integers(0, 180, 20000), rng.integers(0, 256, 20000), rng.integers(0, 256, 20000)], 1)
 
@@ -155,4 +218,5 @@ def test_lookup_tables_match_the_hsv_boxes():
     bits = lut[0, h, 0] & lut[0, s, 1] & lut[0, v, 2]
     assert np.array_equal(label_lut[bits], want)
     assert np.array_equal(bug_lut[bits] == 255, inside(c.bug, h, s, v))
+    assert np.array_equal(leaf_lut[bits] == 255, inside(c.leaf, h, s, v))
     assert len(set(want)) == 4  # the sample hit every class and the background

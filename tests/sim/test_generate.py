@@ -7,7 +7,7 @@ import math
 import pytest
 
 from hw.errors import InputError
-from sim.generate import MAX_ROWS, generate_world
+from sim.generate import LEAF_PEST_POTS, MAX_ROWS, generate_world
 from sim.world import ROBOT_RADIUS, Pose2, World, dump_world, load_default_world, load_world, world_problems
 
 SIZES = [(1, 1, 0), (1, 2, 1), (1, 3, 2), (2, 5, 3), (3, 4, 7), (4, 3, 8), (6, 10, 11), (14, 40, 5)]
@@ -43,7 +43,9 @@ def test_generated_world_content(rows, per_row, seed):
     if n >= 3:
         assert any(p.flower == "none" for p in world.pots)
         assert any(p.bug for p in world.pots)
-        assert not any(p.bug and p.flower == "none" for p in world.pots)
+        assert any(p.bug and p.flower != "none" for p in world.pots)
+    if n >= LEAF_PEST_POTS:
+        assert any(p.bug and p.flower == "none" for p in world.pots), "a pest on a plant with no bloom"
     if n >= 4:
         assert {"red", "white", "pink"} <= {p.flower for p in world.pots}
 

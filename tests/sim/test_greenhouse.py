@@ -13,6 +13,8 @@ import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
+from arm.presets import PRESETS  # noqa: E402
+from mission.patrol.config import PatrolConfig  # noqa: E402
 from sim.apriltag import tag_image, write_tag_png  # noqa: E402
 from sim.config import GreenhouseGeometry  # noqa: E402
 from sim.greenhouse import PARKED_Z, SPARE_BOXES, build_greenhouse, greenhouse_xml  # noqa: E402
@@ -20,7 +22,7 @@ from sim.world import Floor, Obstacle, Pose2, Pot, World  # noqa: E402
 
 ARM = ("shoulder_pan", "shoulder_lift", "elbow", "wrist")
 HOME = (0.04, -0.01, 0.01, -1.57)
-INSPECT = (0.0, -0.40, 0.90, -0.80)
+INSPECT = PRESETS[PatrolConfig().inspect_pose]
 SOUTH, NORTH = -math.pi / 2, math.pi / 2
 
 # A small greenhouse with one pot of each kind. The red pot faces south, the others north, so
@@ -188,7 +190,7 @@ def test_blooms_from_above_fall_in_their_class_only(sim, pot_id):
 @pytest.mark.slow
 @pytest.mark.parametrize("pot_id", ["RED", "WHITE", "PINK", "PEST", "BARE"])
 def test_wrist_camera_at_inspect_sees_the_blooms(sim, pot_id):
-    """The patrol's view: at the approach pose, arm at ``inspect`` (sagged under gravity), the
+    """The patrol's view: at the approach pose, arm at its inspect preset (sagged under gravity), the
     wrist camera frames the pot from above; its blooms, and nothing else, are classified."""
     model, data, renderer = sim
     p = pot(pot_id)
