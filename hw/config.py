@@ -250,6 +250,22 @@ class PeopleGuardConfig(Strict):
     1.0 m of a person")."""
     slow_speed: float = Field(0.15, gt=0)
     """Most linear speed within ``slow_distance`` of a person, m/s (issue 28)."""
+    still_distance: float = Field(0.25, ge=0)
+    """Body to body, m, inside which the base does not move at all, turning included (the arm
+    sweeps): someone at arm's length, who came to the robot (a grower who does not yield walked
+    up beside it while it inspected), is waited out, never driven past or away from under their
+    nose (spec/scenario.md judges every moment the robot moves against 0.25 m), for up to
+    ``still_wait``."""
+    still_lookahead: float = Field(0.5, ge=0)
+    """Someone whose walk brings them within ``still_distance`` in this many seconds counts as
+    there already, s: a grower crossing at 0.8 m/s closes 0.4 m in it, the tracker's scan of
+    lag and the base's stopping included."""
+    still_wait: float = Field(5.0, ge=0)
+    """Seconds the base stands still for someone at arm's length before it may step away from
+    them (never towards): a grower who stopped for the robot at arm's length waits for it to
+    move, and two who wait for each other would wait for ever (walker-following). A grower who
+    walked up to it only in passing has gone on within it (people-crossing-no-yield: 1 s coming,
+    2 s standing at the end of their round, 3 s was too short)."""
     near_distance: float = Field(0.5, gt=0)
     """Body to body, m, inside which no motion towards the person is allowed (issue 28: "never
     drive towards a person nearer than 0.5 m"): the share of the twist towards them is removed,

@@ -7,7 +7,8 @@ the twist_mux and the wheels, judged on the base controller's beat. In order:
 
 1. the e-stop, checked by the base controller before any guard (unchanged);
 2. this guard: with a person (``hw.people.Person``, at least ``min_confidence``) nearer than
-   ``slow_distance`` body to body, the whole twist is scaled so the linear speed is at most
+   ``still_distance`` body to body the base does not move at all for ``still_wait`` (they came
+   to it: wait them out), then only sideways or away; nearer than ``slow_distance``, the whole twist is scaled so the linear speed is at most
    ``slow_speed`` (the path's curvature kept, as the monitor's slowdown does); then, for every
    person nearer than ``near_distance``, the component of the linear motion towards them is
    removed (sideways and away still pass; turning on the spot sweeps nothing with a circular
@@ -37,7 +38,7 @@ from hw.people import PeopleSource, nobody
 #: Below this linear speed (m/s) the base only turns: nothing to judge.
 MOVING = 1e-3
 
-NONE, SLOW, AWAY = "none", "slow", "away"
+NONE, SLOW, AWAY, STILL = "none", "slow", "away", "still"
 
 
 class TwistGuard(Protocol):
@@ -58,7 +59,7 @@ class PeopleVerdict:
     @property
     def holding(self) -> bool:
         """The base is kept from driving where it was told (nearly all its motion removed)."""
-        return self.action == AWAY and self.scale < 0.1
+        return self.action == STILL or (self.action == AWAY and self.scale < 0.1)
 
 
 CLEAR = PeopleVerdict(NONE, 1.0, math.inf)
@@ -77,15 +78,26 @@ class PeopleGuard:
         """The next guard down (the collision monitor), handed what this one lets through."""
         self.verdict = CLEAR
         """The last twist's verdict."""
+        self._still_since: float | None = None
+        """Since when someone has been at arm's length (``still_distance``)."""
 
     def filter(self, twist: Twist, now: float) -> Twist:
-        out = self.judge(twist)
+        out = self.judge(twist, now)
         return self.below.filter(out, now) if self.below is not None else out
 
-    def judge(self, twist: Twist) -> Twist:
-        """The twist the people rules allow (``filter`` without what lies below)."""
+    def judge(self, twist: Twist, now: float = 0.0) -> Twist:
+        """The twist the people rules allow (``filter`` without what lies below) at ``now``."""
         speed = math.hypot(twist.vx, twist.vy)
         near = self._near()
+        soon = self._soonest_gap()
+        close = soon < self.config.still_distance
+        if not close:
+            self._still_since = None
+        elif self._still_since is None:
+            self._still_since = now
+        if close and (speed >= MOVING or twist.wz) and now - self._still_since < self.config.still_wait:
+            self.verdict = PeopleVerdict(STILL, 0.0, float(near[1].min()) if near is not None else soon)
+            return Twist(0.0, 0.0, 0.0)
         if speed < MOVING or near is None:
             self.verdict = CLEAR if near is None else PeopleVerdict(NONE, 1.0, float(near[1].min()))
             return twist
@@ -103,6 +115,30 @@ class PeopleGuard:
         scale = float(np.hypot(*v)) / speed
         self.verdict = PeopleVerdict(action, scale, float(gap.min()))
         return twist if action == NONE else Twist(float(v[0]), float(v[1]), wz)
+
+    def _soonest_gap(self) -> float:
+        """The least body-to-body distance to anyone not walking into the robot, now or where
+        their walk takes them within ``still_lookahead`` (a grower crossing at 0.8 m/s closes
+        0.08 m per base tick, and the tracker sees them a scan late); inf with nobody about.
+        Someone whose straight walk would run into the robot's body is not waited for: standing
+        still in a walker's way is being walked into (people-crossing-no-yield, 105 s), so the
+        navigator steps aside and the rules below keep any motion from going towards them. One
+        who walks past, however close, is (people-crossing-no-yield, 22 s)."""
+        people = [p for p in self.people() if p.confidence >= self.config.min_confidence]
+        if not people:
+            return math.inf
+        r = self.pose()
+        p = np.array([[q.x - r.x, q.y - r.y, q.vx, q.vy, q.radius] for q in people])
+        v2 = p[:, 2] ** 2 + p[:, 3] ** 2
+        t_near = np.where(v2 > 1e-9, np.maximum(-(p[:, 0] * p[:, 2] + p[:, 1] * p[:, 3]) / np.maximum(v2, 1e-9), 0.0), 0.0)
+        miss = np.hypot(p[:, 0] + p[:, 2] * t_near, p[:, 1] + p[:, 3] * t_near) - p[:, 4] - self.radius
+        p = p[~((t_near > 0) & (miss <= 0))]
+        if not len(p):
+            return math.inf
+        t = np.linspace(0.0, self.config.still_lookahead, 4)
+        x = p[:, None, 0] + p[:, None, 2] * t
+        y = p[:, None, 1] + p[:, None, 3] * t
+        return float((np.hypot(x, y) - p[:, None, 4]).min() - self.radius)
 
     def _near(self) -> tuple[np.ndarray, np.ndarray] | None:
         """Unit directions to the people that count (base frame, (P, 2)) and their body-to-body

@@ -38,7 +38,8 @@ A person's keep-out reaches along their next ``predict_time`` s of walking, and 
 stands inside it (a walker who does not yield is coming) it does not just stand there: it steps
 out of the way (``nav.people_nearby``), sideways to a walker's way or away from someone standing,
 along the first direction of a fan the local costmap without people keeps free, never towards
-them.
+them. While it waits for a person it keeps the wider ``wait_clearance`` (1 m) the same way: it
+waits at a distance, and a grower who stopped for it gets room to come by.
 """
 from __future__ import annotations
 
@@ -316,8 +317,8 @@ class Navigator:
         if not why:
             return False
         self.smoother.reset()
-        if not self._hold(now, dt, why):
-            self.io.publish(self._evade(), now)
+        if not self._hold(now, dt, why):  # waiting at a distance: backing off to ``wait_clearance``
+            self.io.publish(self._evade(self.people.layer.wait_clearance), now)
         return True
 
     def _person_close(self) -> bool:
@@ -325,8 +326,8 @@ class Navigator:
         pose = self.map_pose()
         return self.people.in_keep_out(pose.x, pose.y)
 
-    def _evade(self) -> Twist:
-        return self.people.evade(self.io.odom_pose(), self.local_costmap.without_people())
+    def _evade(self, clearance: float | None = None) -> Twist:
+        return self.people.evade(self.io.odom_pose(), self.local_costmap.without_people(), clearance)
 
     def _progressing(self, pose: Pose2D, now: float) -> bool:
         """Nav2's SimpleProgressChecker: moving ``progress_radius`` from the last checkpoint

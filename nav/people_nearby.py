@@ -42,8 +42,9 @@ class PeopleNearby:
         """The tracker's people the person layer counts."""
         return [p for p in self.people() if p.confidence >= self.layer.min_confidence]
 
-    def keep_out(self, person: Person) -> float:
-        return person.radius + self.layer.clearance + self.robot_radius
+    def keep_out(self, person: Person, clearance: float | None = None) -> float:
+        """Centre to centre, m: ``clearance`` (the layer's when None) body to body."""
+        return person.radius + (self.layer.clearance if clearance is None else clearance) + self.robot_radius
 
     def in_map(self) -> list[tuple[np.ndarray, np.ndarray, float]]:
         """(where, where in ``predict_time``, keep_out) of every person counted, map frame."""
@@ -59,17 +60,18 @@ class PeopleNearby:
         """Is the map point within a person's keep-out, their next steps included?"""
         return any(to_segment(np.array([x, y]), a, b) < r for a, b, r in self.in_map())
 
-    def evade(self, odom: Pose2D, grid: CostGrid) -> Twist:
+    def evade(self, odom: Pose2D, grid: CostGrid, clearance: float | None = None) -> Twist:
         """A step out of the way of the nearest person whose keep-out the robot (at ``odom``) is
         in, free on ``grid`` (the local costmap without people); zero with nobody that close or
-        no free direction."""
+        no free direction. ``clearance``: the body-to-body distance to keep (the layer's when
+        None; the wider ``wait_clearance`` while the robot waits for someone)."""
         people = self.counted()
         if not people:
             return ZERO_TWIST
         here = np.array([odom.x, odom.y])
         now, then = self._segments(people)
         close = [(p, d) for p, a, b in zip(people, now, then)
-                 if (d := to_segment(here, a, b)) < self.keep_out(p)]
+                 if (d := to_segment(here, a, b)) < self.keep_out(p, clearance)]
         if not close:
             return ZERO_TWIST
         p = min(close, key=lambda c: c[1])[0]

@@ -19,17 +19,19 @@ occupied components longer than any person (``max_extent``, the tracker's own bo
 diagonal, after closing 0.1 m gaps), which are walls and benches; a worker standing still, a
 crouching one or a crate stays a small blob and is never taken in.
 
-The rules act on tracks that have walked (``confident``: moved ``WALKED`` from where they were
-first seen), from then on for as long as the track lives, standing or not. A standing thing is
-not shown to be a person by its shape: a 0.3 m box seen corner-on is
-two leg-shaped faces (0.9, like a pair of legs) and a moved pot one leg (0.6), and with the
-rules on every unexplained track the box-in-aisle and moved-pot scenarios failed their pots (a
-keep-out round something the robot must stand 0.35 m or 0.18 m from). Nor by the tracker's
-speed alone: a box's seen centre shifts by up to half its width as the robot drives past it,
-which the filter reads as a few tenths of a m/s (the box was "walking" in box-in-aisle); a body
-that moved half a metre has walked. Someone who has stood
-still since before the robot saw them is an obstacle with today's distances until they move,
-the collision monitor's stop zone as ever.
+The rules act on tracks shown to be people, from then on for as long as the track lives,
+standing or not: tracks that have walked (moved ``WALKED`` from where they were first seen) and
+tracks that showed legs (``perception.people.legs``: a pair of legs on ``LEGS_SEEN`` scans, or a
+leg arc on most of the last ``LEG_WINDOW``, someone standing side-on). Not every unexplained
+track: a 0.3 m box seen corner-on is two leg-wide faces and a moved pot one leg-wide sliver, and
+with the rules on every unexplained track the box-in-aisle and moved-pot scenarios failed their
+pots (a keep-out round something the robot must stand 0.35 m or 0.18 m from); the box's faces
+meet at a corner with no gap and the pot's arc is wider than a leg, which the shape pass tells.
+Nor by the tracker's speed alone: a box's seen centre shifts by up to half its width as the robot
+drives past it, which the filter reads as a few tenths of a m/s; a body that moved half a metre
+has walked. A crouching worker who has not moved since the robot saw them is one low block to
+the lidar, the same as a crate: an obstacle with today's distances until they move, the collision
+monitor's stop zone as ever.
 
 ========  ======  =======================================================
 task      rate    why
@@ -39,8 +41,10 @@ people    10 Hz   the lidar's rate: one tracker update per revolution
 """
 from __future__ import annotations
 
+from collections import deque
 from typing import TYPE_CHECKING, Callable, Optional, Sequence
 
+import cv2
 import numpy as np
 
 from hw.interfaces import LidarScan
@@ -49,10 +53,11 @@ from hw.people import Person
 from hw.people_guard import PeopleGuard
 from nav.frames import compose, transform_points
 from nav.grid_geometry import GridGeometry, paste
-from nav.occupancy import OccupancyMap
+from nav.occupancy import FREE, FREE_MAX, OCCUPIED_MIN, UNKNOWN, OccupancyMap
 from nav.structure import long_components
 from perception.people.config import PeopleConfig
 from perception.people.explained import StaticScene
+from perception.people.legs import LegShapes, find as find_legs
 from perception.people.tracker import PersonTracker, odom_points
 
 if TYPE_CHECKING:
@@ -65,6 +70,29 @@ jumped to another thing rather than walked: its walk starts again from there, m.
 WALKED = 0.5
 """A track this far from where it was first seen has walked, m: more than a box's or a pot's
 seen centre shifts with the view (half a 0.6 m crouching body, a 0.3 m box corner-on)."""
+
+LEGS_SEEN = 3
+"""A track seen as a pair of legs (``perception.people.legs``) on this many scans is someone
+standing: one scan's pair can be a fluke of noise on two slivers, three are not."""
+
+LEG_WINDOW, LEG_SCANS = 10, 7
+"""A track seen as a leg arc on at least ``LEG_SCANS`` of its last ``LEG_WINDOW`` scans is
+someone standing side-on (one leg hides the other: a worker facing along the aisle the robot
+drives, people-aisle-worker). A pot, the one other round thing in a greenhouse, fits the leg
+window on under a tenth of its scans (``PeopleConfig.leg_radius``): a moved pot is not a
+person, a post or a pipe might be, the safe side."""
+
+LEGS_NEAR = 0.3
+"""A pair of legs or a leg arc belongs to the track whose centre lies within this of it, m:
+the track's centre is put a leg's radius behind what was seen."""
+
+REMEMBER = 3.0
+"""Where a person's track was lost is remembered this long, s: a leg hidden behind the other, a
+worker cut by the map where they touch a wall, or out of view behind a pot for a few steps."""
+
+REBORN = 0.8
+"""A track born this near where a person's was lost is theirs, m: the gate of the tracker
+(``PeopleConfig.gate``), a step and a half."""
 
 RATE = 10.0
 """Tracker updates per second: the C1's revolutions (a new scan each)."""
@@ -82,6 +110,13 @@ class People:
         """The newest people, odom frame."""
         self.walked: set[int] = set()
         """Ids of the tracks that have walked: people (``confident``)."""
+        self.pairs: dict[int, int] = {}
+        """Per track: on how many scans it was seen as a pair of legs."""
+        self.inherited: set[int] = set()
+        """Ids of the tracks born where a person's track was just lost (``_inherit``)."""
+        self._gone: list[tuple[float, float, float]] = []
+        self.arcs: dict[int, deque[bool]] = {}
+        """Per track: whether it was seen as a leg arc, on each of its last ``LEG_WINDOW`` scans."""
         self._origin: dict[int, tuple[float, float]] = {}
         self._last: dict[int, tuple[float, float]] = {}
         self.guard: PeopleGuard | None = None
@@ -92,6 +127,8 @@ class People:
         self._pot_radius = 0.0
         self._stamp: float | None = None
         self._first: OccupancyMap | None = None
+        self._left: np.ndarray | None = None
+        """The first map's occupied cells a later map saw free: someone who stood there left."""
         self._live: OccupancyMap | None = None
 
     def current(self) -> Sequence[Person]:
@@ -109,16 +146,22 @@ class People:
 
     def confident(self) -> Sequence[Person]:
         """The people the distance rules act on: the tracks that have walked (module docstring)."""
-        return tuple(p for p in self.tracks if p.id in self.walked)
+        return tuple(p for p in self.tracks if p.id in self.walked or p.id in self.inherited or self.legged(p.id))
+
+    def legged(self, track: int) -> bool:
+        """Has the track shown a person's legs (a pair, or a leg arc scan after scan)?"""
+        return self.pairs.get(track, 0) >= LEGS_SEEN or sum(self.arcs.get(track, ())) >= LEG_SCANS
 
     def tick(self, now: float) -> None:
         if self._pots is None:
             return
         live = self.occupancy()
         if live is not self._live and live is not None:
-            self._first = self._first or live
+            if self._first is None:
+                self._first, self._left = live, np.zeros(live.occupancy.shape, bool)
             self._live = live
-            cells = Cells(live.geometry, first_and_structure(self._first, live, self.config.max_extent))
+            self._left |= self._first.occupied() & seen_free(live, self._first.geometry, self.config.margin)
+            cells = Cells(live.geometry, first_and_structure(self._first, live, self.config.max_extent, self._left))
             self.scene = StaticScene(cells, self._pots, self._pot_radius, self.config.margin)
         if self.scene is None:
             return  # no map yet: a pot unexplained would be a person
@@ -130,7 +173,10 @@ class People:
         lidar = compose(odom, self.mount)
         points = odom_points(scan.angles, scan.ranges, (lidar.x, lidar.y, lidar.yaw))
         explained = self.scene.explained(transform_points(self.map_to_odom(), points))
+        shown = {p.id: (p.x, p.y) for p in self.confident()}
         self.tracks = self.tracker.update(scan.stamp, points, (odom.x, odom.y, odom.yaw), explained)
+        self._count_legs(find_legs(points, np.array([lidar.x, lidar.y]), explained, self.config))
+        self._inherit(scan.stamp, shown)
         last = self._last
         self._last = {p.id: (p.x, p.y) for p in self.tracks}
         # a track that jumped (its detection hopped to another thing: the next unknown pot of a
@@ -140,6 +186,43 @@ class People:
                         else self._origin[p.id] for p in self.tracks}
         self.walked = {p.id for p in self.tracks if p.id in self.walked
                        or np.hypot(p.x - self._origin[p.id][0], p.y - self._origin[p.id][1]) > WALKED}
+
+    def _inherit(self, stamp: float, shown: dict[int, tuple[float, float]]) -> None:
+        """A person's track lost (hidden a moment, or cut by the map at a wall) leaves where it
+        was for ``REMEMBER`` seconds; a track born within ``REBORN`` of that is them again, a person
+        at once, not after another half metre of walking (people-crossing-no-yield: the grower
+        pausing by the wall at the end of each crossing came back as a new track each time, and
+        the robot drove up to them while it had still to be shown)."""
+        ids = {p.id for p in self.tracks}
+        self._gone = [g for g in self._gone if stamp - g[2] <= REMEMBER]
+        self._gone += [(x, y, stamp) for k, (x, y) in shown.items() if k not in ids]
+        born = [p for p in self.tracks if p.id not in self._last]
+        self.inherited = (ids & self.inherited) | {p.id for p in born if any(np.hypot(p.x - x, p.y - y) <= REBORN
+                                                                             for x, y, _ in self._gone)}
+
+    def _count_legs(self, shapes: LegShapes) -> None:
+        """Count, per track, the scans on which it was seen as a pair of legs or a leg arc (the
+        nearest track within ``LEGS_NEAR`` of each); tracks gone are forgotten."""
+        ids = [p.id for p in self.tracks]
+        self.pairs = {k: self.pairs.get(k, 0) for k in ids}
+        self.arcs = {k: self.arcs.get(k, deque(maxlen=LEG_WINDOW)) for k in ids}
+        if not ids:
+            return
+        at = np.array([(p.x, p.y) for p in self.tracks])
+        for k in self._nearest(at, shapes.pairs):
+            self.pairs[ids[k]] += 1
+        arc = set(self._nearest(at, shapes.arcs))
+        for k, track in enumerate(ids):
+            self.arcs[track].append(k in arc)
+
+    @staticmethod
+    def _nearest(at: np.ndarray, found: np.ndarray) -> list[int]:
+        """For each found shape, the index of the nearest track within ``LEGS_NEAR`` (if any)."""
+        if not len(found):
+            return []
+        d = np.hypot(*(at[:, None, :] - found[None, :, :]).transpose(2, 0, 1))
+        k = np.argmin(d, axis=0)
+        return [int(i) for i, j in zip(k, range(len(found))) if d[i, j] <= LEGS_NEAR]
 
 
 class Cells:
@@ -152,10 +235,27 @@ class Cells:
         return self._mask
 
 
-def first_and_structure(first: OccupancyMap, live: OccupancyMap, max_extent: float, gap: float = 0.1) -> np.ndarray:
-    """On ``live``'s grid: the first map's occupied cells, and ``live``'s structure (``nav.structure``:
-    components whose bounding box's diagonal exceeds ``max_extent`` once gaps up to ``gap`` are closed)."""
-    return long_components(live, max_extent, gap) | paste(first.occupied(), first.geometry, live.geometry, False)
+def first_and_structure(first: OccupancyMap, live: OccupancyMap, max_extent: float, left: np.ndarray | None = None,
+                        gap: float = 0.1) -> np.ndarray:
+    """On ``live``'s grid: the first map's occupied cells but those ``left`` (on the first map's
+    grid: seen free since), and ``live``'s structure (``nav.structure``: components whose
+    bounding box's diagonal exceeds ``max_extent`` once gaps up to ``gap`` are closed)."""
+    kept = first.occupied() if left is None else first.occupied() & ~left
+    return long_components(live, max_extent, gap) | paste(kept, first.geometry, live.geometry, False)
+
+
+def seen_free(live: OccupancyMap, on: GridGeometry, margin: float) -> np.ndarray:
+    """On the grid ``on``: the cells ``live`` knows to be free with nothing occupied within
+    ``margin``. A worker standing in the first map (at the dock, on their round) is not the
+    greenhouse: once they walk off, the cells they stood on are seen free, and the first map
+    stops explaining them (people-crossing-no-yield: a grower whose round starts beside the first
+    pot was explained away each time they came back to stand there). The margin keeps a crate or
+    a pot's rim, drawn a cell off in the first map, from wearing away at its edges."""
+    v = paste(live.occupancy, live.geometry, on, np.int8(UNKNOWN))
+    cells = int(np.ceil(margin / on.resolution))
+    k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * cells + 1, 2 * cells + 1))
+    near = cv2.dilate((v >= OCCUPIED_MIN).astype(np.uint8), k).astype(bool)
+    return (v >= FREE) & (v <= FREE_MAX) & ~near
 
 
 def attach_people(robot: "Robot", map_to_odom: Callable[[], Pose2D],

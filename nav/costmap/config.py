@@ -26,6 +26,12 @@ class PersonLayerConfig(Strict):
     (252 exp(-k d), k = ``cost_scaling_factor``) so MPPI's obstacle critic, which reads a cost
     back as a distance, reads the distance past the keep-out; 0.25 m (cost 72) is as far as the
     critic's repulsion stays positive (it counts out to ``inflation_radius``)."""
+    wait_clearance: float = Field(1.0, ge=0)
+    """Body to body, m, the robot backs off to while it waits for a person (on its goal, or in
+    the only way): issue 28's "the robot waits at a distance", the guard's 1.0 m slow zone. A
+    grower who stops for the robot at arm's length waits for it to leave their way; a robot that
+    waited there too would wait for ever (walker-following, once a standing pair of legs was a
+    person). Backing off makes room, and a walker coming on is stepped aside from."""
     predict_time: float = Field(1.0, ge=0)
     """A walker's next seconds of straight walking at its velocity are kept out of like the
     walker, s (Nav2's social layers stretch their costs the same way): a grower who does not

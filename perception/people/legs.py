@@ -12,20 +12,20 @@ shape, and so do we, on the segment fits of ``shape``:
   m: two legs of one person, standing or in stride) with a gap between their returns of at
   least ``leg_gap``: two things, not two faces of one contiguous outline meeting at a corner.
 
-A single leg arc is not enough (a pot's sliver is one, and so is a post); nor is a crouching
-worker's outline anything but a blob to the lidar, the same as a crate's: those keep the walked
-rule (``mission.runtime.people``).
+One scan's single leg arc is not enough (a pot's sliver fits the leg window now and then, and a
+post always); the runtime asks for one scan after scan (``mission.runtime.people``). A crouching
+worker's outline is nothing but a blob to the lidar, the same as a crate's: those keep the
+walked rule.
 
 :func:`find` runs the whole shape pass on one scan. It segments the scan as the circle it is
 (``segments.unwrap``: the revolution starts straight ahead, and whatever stood dead ahead was
 cut in two at the array's ends, a box corner-on into two leg-wide faces) and breaks segments
 where the map took returns out (``split``'s ``index``: the wall seen between a standing
-person's legs, 0.085 m apart surface to surface, under the jump). Not yet wired into the
-tracker: with this segmentation in the tracker the walker-crossing scenario failed a pot, and
-with the runtime's rules acting on leg pairs walker-following deadlocked (a yielding grower
-standing for the robot, the robot waiting for the grower): issue 28 items 1-2 stay open.
+person's legs, 0.085 m apart surface to surface, under the jump). The runtime runs it beside the tracker on every scan and gives its shapes to the nearest tracks.
 """
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -61,10 +61,19 @@ def pairs(points: np.ndarray, segments: Segments, fits: Fits, leg: np.ndarray, c
     return both & (apart >= lo) & (apart <= hi) & (gaps(points, segments) >= config.leg_gap)
 
 
-def find(points: np.ndarray, robot_xy: np.ndarray, explained: np.ndarray, config: PeopleConfig) -> np.ndarray:
-    """(K, 2) the pairs of legs of one scan: the midpoints of their circles' centres.
-    ``points``: the revolution's returns in scan order; ``explained``: the map's and the known
-    pots' (``explained.StaticScene``)."""
+@dataclass(frozen=True)
+class LegShapes:
+    """One scan's shape evidence (map frame of the points given)."""
+
+    pairs: np.ndarray
+    """(K, 2) pairs of legs: the midpoints of their two circles' centres."""
+    arcs: np.ndarray
+    """(L, 2) every leg arc's circle centre (those of the pairs too)."""
+
+
+def find(points: np.ndarray, robot_xy: np.ndarray, explained: np.ndarray, config: PeopleConfig) -> LegShapes:
+    """The leg arcs and pairs of legs of one scan. ``points``: the revolution's returns in scan
+    order; ``explained``: the map's and the known pots' (``explained.StaticScene``)."""
     order = unwrap(points)
     pts = np.asarray(points, dtype=float)[order]
     ranges = np.hypot(*(pts - robot_xy).T)
@@ -75,4 +84,4 @@ def find(points: np.ndarray, robot_xy: np.ndarray, explained: np.ndarray, config
     fits = fit(pts, segs)
     leg = arcs(segs, fits, robot_xy, config)
     i, j = np.nonzero(np.triu(pairs(pts, segs, fits, leg, config)))
-    return (fits.circle_centre[i] + fits.circle_centre[j]) / 2
+    return LegShapes((fits.circle_centre[i] + fits.circle_centre[j]) / 2, fits.circle_centre[leg])

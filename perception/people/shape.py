@@ -29,6 +29,9 @@ from perception.people.segments import Segments
 
 GEOMETRIC_STEPS = 3
 """Gauss-Newton steps after the algebraic fit: it starts close, and three steps settle it."""
+DAMPING = 1e-6
+"""Levenberg-Marquardt damping of each step, relative to the normal matrix's trace: negligible
+for a true arc, enough to keep a nearly straight one's equations solvable."""
 
 
 @dataclass(frozen=True)
@@ -86,9 +89,14 @@ def fit(points: np.ndarray, segments: Segments) -> Fits:
         np.add.at(jtj, label, jac[:, :, None] * jac[:, None, :])
         jtr = np.zeros((s, 3))
         np.add.at(jtr, label, jac * res[:, None])
-        step = np.linalg.solve(np.where(solid[:, None, None], jtj, eye), -np.where(solid[:, None], jtr, 0.0)[:, :, None])[:, :, 0]
+        # a little Levenberg-Marquardt damping: an arc so flat it is nearly a line (a wall's
+        # sliver, a box face) makes the normal equations singular (all its returns pull one way)
+        damp = DAMPING * (np.trace(jtj, axis1=1, axis2=2) + 1e-12)[:, None, None] * eye
+        step = np.linalg.solve(np.where(solid[:, None, None], jtj + damp, eye),
+                               -np.where(solid[:, None], jtr, 0.0)[:, :, None])[:, :, 0]
         centre_uv = centre_uv + step[:, :2]
         radius = radius + step[:, 2]
+    solid &= np.isfinite(radius) & np.isfinite(centre_uv).all(axis=1)
     off = np.hypot(u - centre_uv[label, 0], v - centre_uv[label, 1]) - radius[label]
     circle_rms = np.sqrt(per(off * off) / n)
     return Fits(line_rms, np.where(solid, radius, np.inf), np.where(solid, circle_rms, np.inf),

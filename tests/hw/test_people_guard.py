@@ -13,7 +13,7 @@ from hw.config import HwConfig, PeopleGuardConfig
 from hw.interfaces import Twist
 from hw.odometry import Pose2D
 from hw.people import Person
-from hw.people_guard import AWAY, NONE, SLOW, PeopleGuard
+from hw.people_guard import AWAY, NONE, SLOW, STILL, PeopleGuard
 from tests.fixtures import make_base_rig
 
 R = 0.22
@@ -56,6 +56,33 @@ def test_nearer_than_half_a_metre_motion_towards_is_removed_sideways_and_away_pa
     assert not g.verdict.holding
     back = g.judge(Twist(-0.1, 0.0, 0.0))
     assert back == Twist(-0.1, 0.0, 0.0)  # away from them, at most 0.15 m/s: untouched
+
+
+def test_someone_at_arms_length_stops_every_motion_turning_and_away_included():
+    g = guard(at(0.0, 0.62))  # 0.20 m beside the robot: they walked up to it
+    wait = PeopleGuardConfig().still_wait
+    for now in (10.0, 10.0 + wait / 2, 10.0 + wait - 0.01):
+        for t in (Twist(-0.1, 0.0, 0.0), Twist(0.0, -0.1, 0.0), Twist(0.0, 0.0, 0.3)):
+            assert g.judge(t, now) == Twist(0.0, 0.0, 0.0)
+            assert g.verdict.action == STILL and g.verdict.holding
+    # they stay: after ``still_wait`` the robot may step away from them, never towards
+    assert g.judge(Twist(0.0, -0.1, 0.0), 10.0 + wait) == Twist(0.0, -0.1, 0.0)
+    assert speed(g.judge(Twist(0.0, 0.1, 0.0), 10.0 + wait)) == pytest.approx(0.0)
+    g = guard(at(0.0, 0.72))  # 0.30 m: away and sideways pass at once
+    assert g.judge(Twist(0.0, -0.1, 0.0), 10.0) == Twist(0.0, -0.1, 0.0)
+
+
+def test_someone_passing_close_by_counts_as_there_already_but_not_someone_walking_at_the_robot():
+    passing = Person(1, 0.15, 0.66, -0.8, 0.0, 0.2, 0.9)  # 0.26 m off, crossing to 0.24 m beside it at 0.8 m/s
+    g = guard(passing)
+    assert g.verdict.action == NONE
+    assert g.judge(Twist(-0.1, 0.0, 0.0), 5.0) == Twist(0.0, 0.0, 0.0) and g.verdict.action == STILL
+    going = Person(1, 0.0, 1.02, 0.0, 0.8, 0.2, 0.9)  # walking off
+    assert guard(going).judge(Twist(-0.1, 0.0, 0.0), 5.0) == Twist(-0.1, 0.0, 0.0)
+    coming = Person(1, 0.0, 0.82, 0.0, -0.8, 0.2, 0.9)  # 0.40 m beside, walking straight at it
+    g = guard(coming)
+    assert g.judge(Twist(0.0, -0.1, 0.0), 5.0) == Twist(0.0, -0.1, 0.0)  # out of their way: yes
+    assert speed(g.judge(Twist(0.0, 0.1, 0.0), 5.0)) == pytest.approx(0.0)  # towards them: never
 
 
 def test_two_people_either_side_ahead_stop_the_robot_between_them():

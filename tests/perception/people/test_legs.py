@@ -49,7 +49,7 @@ def detections(scene: Scene, robot=ROBOT, pots=(), scans: int = 10):
     out = []
     for k in range(scans):
         pts = scene.scan(robot, seed=k)
-        out.append(find(pts, np.array(robot[:2]), static.explained(pts), CONFIG))
+        out.append(find(pts, np.array(robot[:2]), static.explained(pts), CONFIG).pairs)
     return out
 
 
@@ -116,3 +116,15 @@ def test_a_two_leg_gap_check_tells_a_corner_from_legs():
         leg = arcs(segs, f, np.array(ROBOT[:2]), CONFIG)
         assert leg.all()
         assert pairs(pts, segs, f, leg, CONFIG)[0, 1] == gap
+
+
+def test_a_nearly_straight_sliver_fits_without_breaking_the_scan_loop():
+    """A wall's sliver of three returns on an arc of a kilometre's radius made the Gauss-Newton
+    equations singular (a LinAlgError that killed the runtime's people task mid-scenario)."""
+    for radius in (1e2, 1e4, 1e6):
+        a = np.linspace(0.0, 0.1 / radius, 3)
+        pts = np.stack([radius * np.cos(a) - radius, radius * np.sin(a)], axis=1)
+        f = fit(pts, Segments(np.array([0]), np.array([3]), np.zeros((1, 2)), np.zeros((1, 2)), np.zeros((1, 2))))
+        assert not arcs(Segments(np.array([0]), np.array([3]), pts.mean(axis=0, keepdims=True), pts.min(axis=0, keepdims=True),
+                                 pts.max(axis=0, keepdims=True)), f, np.array([0.0, -1.0]), CONFIG).any()
+        assert np.isinf(f.radius[0]) or f.radius[0] > 1.0
