@@ -9,9 +9,17 @@ work per scan over the patrol, and memory.
   and the last tenth of a patrol can be compared (and their scans taken on the move alone: a
   scan costs more while the robot drives than while it stands at a pot, and the tenths need not
   hold the same share of each); solves are the scans that optimised the pose
-  graph (each timed whole: the solve and the re-render of what it moved; an accepted loop
-  closure that moves the estimate less than a centimetre is kept as an edge without a solve,
-  so ``loop_closures`` can exceed ``solves``); ``kept_mb`` is what it holds to re-render.
+  graph (each timed whole: the solve and the first share of the re-render of what it moved;
+  an accepted loop closure that moves the estimate less than a centimetre is kept as an edge
+  without a solve, so ``loop_closures`` can exceed ``solves``); ``kept_mb`` is what it holds to
+  re-render. ``slam_longest_gap_s`` is the longest time between two consecutive scan updates
+  the robot would see: its free-running worker takes a new scan at the first 10 Hz tick after
+  it answers, so a scan that keeps it busy ``b`` seconds holds the next update back to
+  ``ceil(b / period)`` periods (one period at the least; the sim's lock-step exchange waits
+  instead, so the sim's clock cannot show the gap itself). The first scan (the worker starting
+  up) is not a gap between two updates, and the map handed over whole at the patrol's end (a
+  loop closure's re-render finished in that exchange, ``nav.slam.rerender``) is given apart as
+  ``slam_whole_map_ms``.
 - **Peak memory** is the high-water resident set of the runtime process during the patrol (the
   mark is reset at the start where Linux allows it) and of the SLAM worker.
 """
@@ -53,6 +61,7 @@ class PatrolMeter:
         _reset_hwm()
         self.cpu0, self.sim_cpu0 = time.process_time(), self.engine.cpu_s
         self.busy: list[float] = []
+        self.settle: list[float] = []
         self.moving: list[bool] = []
         """Per scan: had the robot moved since the scan before (1 cm or 0.01 rad)?"""
         self._last_pose = None
@@ -67,6 +76,7 @@ class PatrolMeter:
 
     def _reply(self, reply) -> None:
         self.busy.append(reply.busy_s)
+        self.settle.append(reply.settle_s)
         was, self._last_pose = self._last_pose, reply.pose
         self.moving.append(was is not None and (math.hypot(reply.pose.x - was.x, reply.pose.y - was.y) >= 0.01
                                                 or abs(math.remainder(reply.pose.yaw - was.yaw, 2 * math.pi)) >= 0.01))
@@ -86,6 +96,9 @@ class PatrolMeter:
         if self.slam.pid is not None:
             self.worker_hwm_mb = max(self.worker_hwm_mb, _hwm_mb(self.slam.pid))
         busy = np.asarray(self.busy) * 1000.0
+        period = self.slam.cfg.transform_publish_period
+        settle = np.asarray(self.settle) * 1000.0
+        between = (busy - settle)[1:] / 1000.0
         tenth = max(1, len(busy) // 10)
         first, last = busy[:tenth], busy[-tenth:]
         moving = np.asarray(self.moving, dtype=bool)
@@ -96,7 +109,10 @@ class PatrolMeter:
             "runtime_cpu_per_robot_s": round((main + worker) / robot_s, 4) if robot_s else None,
             "peak_rss_mb": round(_hwm_mb(), 1), "slam_worker_peak_rss_mb": round(self.worker_hwm_mb, 1),
             "slam_scans": len(busy), "slam_keyframes": self.keyframes, "slam_kept_mb": round(self.kept_bytes / 1e6, 2),
-            "slam_first_tenth_ms": _stats(first), "slam_last_tenth_ms": _stats(last),
+            "slam_ms": _stats(busy), "slam_first_tenth_ms": _stats(first), "slam_last_tenth_ms": _stats(last),
+            "slam_longest_gap_s": round(period * max(1, math.ceil(between.max(initial=0.0) / period - 1e-9)), 3),
+            "slam_longest_busy_ms": round(float(between.max(initial=0.0)) * 1000.0, 1),
+            "slam_whole_map_ms": round(float(settle.max(initial=0.0)), 1),
             "slam_last_over_first_median": round(float(np.median(last) / np.median(first)), 3) if len(busy) else None,
             "slam_moving_share": {"first_tenth": round(float(moving[:tenth].mean()), 3) if len(busy) else None,
                                   "last_tenth": round(float(moving[-tenth:].mean()), 3) if len(busy) else None},

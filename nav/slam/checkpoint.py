@@ -7,8 +7,10 @@ needs is small and grows only by appending:
 * the pose graph: keyframe poses (replaced whole only after a solve), its edges, each keyframe's
   points (what loop closure matches against) and the travel along the chain;
 * the kept scans (one every 0.2 m, float16: what a re-render after a loop closure draws from);
-* the map: the worker already hands it back once a second, and once more after every solve (a
-  solve re-renders what moved, so the map must follow the graph it is kept with).
+* the map: the worker already hands it back once a second, and once more when a solve's
+  re-render is swapped in (the map must follow the graph it is kept with); while a re-render is
+  being drawn (``nav.slam.rerender``), its region, so a replacement draws it again from the
+  kept scans rather than keep that region at the poses the solve moved away from.
 
 The worker sends what is new with each reply (a ``Delta``: a scan's worth, a few KB when a
 keyframe or a kept scan was added and nothing otherwise), and the supervisor folds it into a
@@ -62,7 +64,9 @@ class Delta:
     counters: tuple[int, int, int, float] = (0, 0, 0, 0.0)
     """Scans processed, loop closures, solves, and the travel before the next loop is sought."""
     occupancy: Optional[OccupancyMap] = None
-    """The map after a solve re-rendered it (else None: the once-a-second map stands)."""
+    """The map when a solve's re-render was swapped in (else None: the once-a-second map stands)."""
+    rerender: Optional[tuple[float, float, float, float]] = None
+    """The region (x0, y0, x1, y1, m) a re-render is drawing after this scan (None: none)."""
 
     @property
     def nbytes(self) -> int:
@@ -83,6 +87,8 @@ class Checkpoint:
     scans: list[KeptScan] = field(default_factory=list)
     counters: tuple[int, int, int, float] = (0, 0, 0, 0.0)
     occupancy: Optional[OccupancyMap] = None
+    rerender: Optional[tuple[float, float, float, float]] = None
+    """The region a re-render was drawing: the map there is at the poses before the solve."""
 
     @property
     def empty(self) -> bool:
@@ -97,6 +103,7 @@ class Checkpoint:
         self.travel += delta.travel
         self.scans += delta.scans
         self.counters = delta.counters
+        self.rerender = delta.rerender
         if delta.occupancy is not None:
             self.occupancy = delta.occupancy
 

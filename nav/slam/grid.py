@@ -74,6 +74,19 @@ class LogOddsGrid:
         self.logodds[iy0:iy1, ix0:ix1] = 0.0
         self._occupancy[iy0:iy1, ix0:ix1] = UNKNOWN
 
+    def replace(self, region: "LogOddsGrid") -> None:
+        """Take ``region``'s cells (a grid on this one's lattice, inside it) in place of these:
+        a re-render drawn apart is swapped in at once (``nav.slam.rerender``)."""
+        dx, dy = region.geometry.offset_in(self.geometry)
+        h, w = region.geometry.shape
+        self.logodds[dy:dy + h, dx:dx + w] = region.logodds
+        self._occupancy[dy:dy + h, dx:dx + w] = region._occupancy
+
+    @property
+    def whole(self) -> tuple[int, int, int, int]:
+        """The window of every cell: an update confined to it never grows the grid."""
+        return 0, 0, self.geometry.width, self.geometry.height
+
     def integrate(self, sensor_xy: tuple[float, float], ends: np.ndarray,
                   window: tuple[int, int, int, int] | None = None) -> None:
         """One scan: ``ends`` (N, 2) are the returns' map-frame points seen from ``sensor_xy``;

@@ -6,9 +6,11 @@
 2. registers it against the local voxel map, wheel odometry giving the guess (``lidar_odometry``);
 3. every ``keyframe_distance`` / ``keyframe_angle`` adds a pose-graph node joined to the last by
    the registered motion, looks for a revisit and, on an accepted loop match, optimises the
-   graph and re-renders the grid from every scan at its corrected pose (``loop_closure``,
-   ``pose_graph``);
-4. renders the scan into the log-odds grid at its map pose (``grid``).
+   graph (``loop_closure``, ``pose_graph``) and starts re-rendering the region it moved from the
+   kept scans at their corrected poses;
+4. renders the scan into the log-odds grid at its map pose (``grid``), and draws a bounded share
+   of a pending re-render apart, swapping it in once whole (``rerender``): a correction never
+   stops the scan loop, and the map handed out is never half moved.
 
 Frames: lidar odometry runs in its own smooth frame; the graph's optimised keyframes give the
 correction from it to ``map``. ``map_to_odom`` is what the navigator needs: the map pose of the
@@ -33,6 +35,7 @@ from nav.slam.grid import LogOddsGrid
 from nav.slam.lidar_odometry import LidarOdometry
 from nav.slam.loop_closure import LoopCloser
 from nav.slam.pose_graph import PoseGraph
+from nav.slam.rerender import BUDGET, Rerender, clipped, region_of, touching, union
 from nav.slam.scan_points import scan_points
 
 #: Inverse variances of a lidar-odometry edge between keyframes (x, y: (1 cm)^-2, yaw: (5 mrad)^-2).
@@ -76,6 +79,10 @@ class Mapper:
         """Pose-graph optimisations run (each after an accepted loop closure that moved things)."""
         self.rerendered = 0
         """Kept scans re-rendered after solves, all told (what loop closures cost the grid)."""
+        self.rerendering: Rerender | None = None
+        """The region a solve moved, being drawn again apart from the live grid (None: none)."""
+        self.swaps = 0
+        """Re-renders swapped into the map whole."""
         self.kept_bytes = 0
         """Memory of the kept scans and the keyframes' points (what re-rendering needs)."""
         self.scans = 0
@@ -88,6 +95,8 @@ class Mapper:
         """Graph nodes, edges, keyframes and kept scans already handed out in a ``delta``."""
         self._solved = False
         """Has the graph been solved since the last ``delta`` (its poses all moved)?"""
+        self._swapped = False
+        """Has a re-render been swapped into the map since the last ``delta``?"""
 
     @classmethod
     def restored(cls, cfg: SlamConfig, lidar_mount: Pose2D, checkpoint: Checkpoint, start: Pose2D) -> "Mapper":
@@ -108,6 +117,8 @@ class Mapper:
         m.kept_bytes = sum(p.nbytes for p in m._kf_points) + sum(s.points.nbytes for s in m._scans)
         m.grid = LogOddsGrid.restored(checkpoint.occupancy)
         m._sent = (len(m.graph), len(m.graph.edges), len(m._kf_points), len(m._scans))
+        if checkpoint.rerender is not None:  # the lost worker was drawing a correction: draw it again
+            m._redraw(clipped(m.grid.geometry, checkpoint.rerender))
         near = [s for s in m._scans if distance(m._scan_pose(s), start) <= cfg.local_map_range]
         if near:
             m.odometry.seed(np.vstack([transform_points(m._scan_pose(s), s.points.astype(np.float64)) for s in near]))
@@ -120,9 +131,10 @@ class Mapper:
         out = Delta(first, self.graph.poses[first:].copy(), tuple(self.graph.edges[edges:]),
                     tuple(self._kf_points[kfs:]), tuple(self._travel[kfs:]), tuple(self._scans[scans:]),
                     (self.scans, self.loop_closures, self.solves, self._next_loop),
-                    self.occupancy() if self._solved else None)
+                    self.occupancy() if self._swapped else None,
+                    self.rerendering.bounds if self.rerendering is not None else None)
         self._sent = (len(self.graph), len(self.graph.edges), len(self._kf_points), len(self._scans))
-        self._solved = False
+        self._solved = self._swapped = False
         return out
 
     def process(self, angles: np.ndarray, ranges: np.ndarray, odom: Pose2D) -> Pose2D:
@@ -142,7 +154,9 @@ class Mapper:
             reach = float(np.hypot(points[:, 0], points[:, 1]).max(initial=0.0)) + abs(self.mount.x) + 0.1
             self._scans.append(KeptScan(self.scans, k, relative, kept, reach))
             self.kept_bytes += self._scans[-1].points.nbytes
+            self._queue_kept()
         self._render(self.pose, points)
+        self._rerender_step()
         self.map_to_odom = compose(self.pose, inverse(odom))
         self.scans += 1
         return self.pose
@@ -219,30 +233,68 @@ class Mapper:
         """The map follows the graph, where the solve moved it: the keyframes whose scans moved
         by half a cell or more anywhere within their reach (a turn of 0.01 rad moves a return
         12 m out by 12 cm) mark a region, their scans' reach at the old poses and the new; that
-        region is cleared and re-rendered from every kept scan that touches it, each confined to
-        it, so the cells outside keep what they had and nothing is counted twice."""
+        region is drawn again from every kept scan that touches it, apart from the live grid and
+        a share per scan (``nav.slam.rerender``); one still being drawn is widened to both."""
         if not self._scans:
             return
         kf = np.array([s.keyframe for s in self._scans])
-        reach = np.array([s.reach for s in self._scans])
         shift = np.hypot(*(self.graph.poses[:, :2] - before[:, :2]).T)
         turn = np.abs(wrap_angles(self.graph.poses[:, 2] - before[:, 2]))
+        (now_xy, reach), (was_xy, _) = self._kept_at(self.graph.poses), self._kept_at(before)
         moved = (shift[kf] + turn[kf] * reach) >= self.cfg.resolution / 2
         if not moved.any():
             return
-        rel = np.array([[s.relative.x, s.relative.y] for s in self._scans])
-        now_xy, was_xy = (_place(p[kf], rel) for p in (self.graph.poses, before))
-        corners = np.vstack([xy[moved] + sign * reach[moved, None] for xy in (now_xy, was_xy) for sign in (-1, 1)])
-        (x0, y0), (x1, y1) = corners.min(axis=0), corners.max(axis=0)
-        g = self.grid.geometry
-        (ix0, ix1), (iy0, iy1) = g.cell_of([x0, x1], [y0, y1])
-        window = (int(ix0), int(iy0), int(ix1) + 1, int(iy1) + 1)
-        self.grid.clear(window)
-        touches = ((now_xy[:, 0] + reach >= x0) & (now_xy[:, 0] - reach <= x1) &
-                   (now_xy[:, 1] + reach >= y0) & (now_xy[:, 1] - reach <= y1))
-        self.rerendered += int(touches.sum())
-        for i in np.flatnonzero(touches):
-            s = self._scans[i]
-            pose = self._scan_pose(s)
-            sensor = compose(pose, self.mount)
-            self.grid.integrate((sensor.x, sensor.y), transform_points(pose, s.points.astype(np.float64)), window)
+        region = region_of(self.grid.geometry, np.vstack([now_xy[moved], was_xy[moved]]), np.tile(reach[moved], 2))
+        if region is not None and self.rerendering is not None:
+            region = union(region, self.rerendering.region)
+        self._redraw(region)
+
+    def _kept_at(self, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(N, 2) map positions of the kept scans were their keyframes at ``poses``, and their reach."""
+        kf = np.array([s.keyframe for s in self._scans], dtype=int)
+        rel = np.array([[s.relative.x, s.relative.y] for s in self._scans]).reshape(-1, 2)
+        return _place(poses[kf], rel), np.array([s.reach for s in self._scans])
+
+    def _redraw(self, region: GridGeometry | None) -> None:
+        """Start drawing ``region`` again from every kept scan that touches it at its pose now."""
+        if region is not None:
+            xy, reach = self._kept_at(self.graph.poses)
+            self.rerendering = Rerender(region, np.flatnonzero(touching(region, xy, reach)).tolist(), self.scans)
+
+    def _queue_kept(self) -> None:
+        """A scan kept while a re-render is pending is drawn into it too, after the older ones."""
+        r, s = self.rerendering, self._scans[-1]
+        if r is not None:
+            p = self._scan_pose(s)
+            if touching(r.region, np.array([[p.x, p.y]]), np.array([s.reach]))[0]:
+                r.queue.append(len(self._scans) - 1)
+
+    def settle(self) -> None:
+        """Draw the rest of a pending re-render at once: for a map to keep (a patrol's end, a
+        map save), never for the navigator's once-a-second map."""
+        if self.rerendering is not None:
+            self._redraw_share(len(self.rerendering.queue))
+
+    def _rerender_step(self) -> None:
+        """This scan's share of a pending re-render (none on the scan that solved: the solve
+        was its work)."""
+        if self.rerendering is not None and self.rerendering.since < self.scans:
+            self._redraw_share(BUDGET)
+
+    def _redraw_share(self, budget: int) -> None:
+        """``budget`` more kept scans of the pending re-render; once all are drawn, it replaces
+        its region of the map at once."""
+        r = self.rerendering
+        self.rerendered += r.step(self._draw, budget)
+        if r.done:
+            self.grid.replace(r.shadow)
+            self.rerendering = None
+            self.swaps += 1
+            self._swapped = True
+
+    def _draw(self, grid: LogOddsGrid, i: int) -> None:
+        """Kept scan ``i`` at its pose now, into ``grid`` (a re-render's shadow: all of it)."""
+        s = self._scans[i]
+        pose = self._scan_pose(s)
+        sensor = compose(pose, self.mount)
+        grid.integrate((sensor.x, sensor.y), transform_points(pose, s.points.astype(np.float64)), grid.whole)

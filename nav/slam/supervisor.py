@@ -87,6 +87,8 @@ class SlamSupervisor:
         self._answered = False
         """Has the current worker replied yet (before that, ``startup_timeout`` applies)?"""
         self._next_map = 0.0
+        self._whole = False
+        """Is the next map asked for one to keep (``request_map``)?"""
         self.checkpoint = Checkpoint()
         """What a replacement worker goes on from (emptied by the map reset)."""
         self.restored = 0
@@ -130,18 +132,22 @@ class SlamSupervisor:
         odom = self.odom_pose()
         start = compose(self._map_to_odom, odom)
         try:
-            self._conn.send(worker.Scan(scan.stamp, scan.angles, scan.ranges, odom, start, want_map))
+            self._conn.send(worker.Scan(scan.stamp, scan.angles, scan.ranges, odom, start, want_map, self._whole))
         except (BrokenPipeError, OSError):
             self._lost(now, "its pipe broke")
             return
         if want_map:
             self._next_map = now + self.cfg.map_update_interval
+            self._whole = False
         self._pending, self._sent_stamp = now, scan.stamp
         self._watch = None
 
     def request_map(self) -> None:
-        """Have the next exchange bring the map back, whatever the update interval (a map save)."""
+        """Have the next exchange bring the map back, whatever the update interval, and whole
+        (a map save, a patrol's end): a loop closure's re-render still being drawn is finished
+        first, in that one exchange (``nav.slam.rerender``)."""
         self._next_map = float("-inf")
+        self._whole = True
 
     def stall(self, kind: str, seconds: float = 0.0) -> None:
         """Test hook: have the worker wedge for real (``spin``, ``block``) or work ``seconds``

@@ -5,7 +5,8 @@ can never stall the control loop, and so it uses the robot's second core. The ru
 ``nav.slam.supervisor``. The protocol is one message each way per scan:
 
 * request ``Scan``: a revolution, the wheel odometry pose it was taken at, the map pose to start
-  from (used by a fresh worker's first scan only), and whether the map is wanted back;
+  from (used by a fresh worker's first scan only), and whether the map is wanted back (and
+  whole: a map to keep has a loop closure's pending re-render drawn first, ``nav.slam.rerender``);
 * reply ``Reply``: the robot's map pose and ``map -> odom`` after that scan, the graph's size,
   the time the worker spent, the occupancy map when asked for, and what the scan added to the
   mapper's state (``checkpoint.Delta``), which the supervisor keeps.
@@ -49,6 +50,8 @@ class Scan:
     odom: Pose2D
     start: Pose2D
     want_map: bool
+    whole: bool = False
+    """A map to keep (a patrol's end, a map save): any pending re-render is drawn first."""
 
 
 @dataclass(frozen=True)
@@ -87,6 +90,8 @@ class Reply:
     """What this scan added to the mapper's state: the supervisor's checkpoint is their sum."""
     restore_s: float = 0.0
     """Wall seconds this scan spent rebuilding the mapper from a checkpoint (a respawn's first)."""
+    settle_s: float = 0.0
+    """Of ``busy_s``, wall seconds spent drawing a pending re-render whole for ``Scan.whole``."""
 
 
 def serve(conn: Connection, config: dict, mount: tuple[float, float, float]) -> None:
@@ -115,11 +120,15 @@ def serve(conn: Connection, config: dict, mount: tuple[float, float, float]) -> 
                 restore = time.perf_counter() - t0
         solves = mapper.solves
         pose = mapper.process(msg.angles, msg.ranges, msg.odom)
+        t1 = time.perf_counter()
+        if msg.whole:
+            mapper.settle()
+        settle = time.perf_counter() - t1
         occ = mapper.occupancy() if msg.want_map else None
         busy = time.perf_counter() - t0
         reply = Reply(msg.stamp, pose, mapper.map_to_odom, mapper.keyframes, mapper.loop_closures,
                       busy, occ, busy if mapper.solves > solves else 0.0, time.process_time(), mapper.kept_bytes,
-                      mapper.delta(), restore)
+                      mapper.delta(), restore, settle)
         try:
             conn.send(reply)
         except (BrokenPipeError, OSError):
