@@ -38,6 +38,11 @@ def draw_blooms(image: np.ndarray, frame: FlowerFrame) -> np.ndarray:
         _label(out, text, (centre[0] - radius, max(12, centre[1] - radius - 6)), colour)
         if b.bug:
             cv2.circle(out, centre, radius + 2 * thick, _BUG_BGR, thick, cv2.LINE_AA)
+    for p in frame.pests:  # every pest, on a bloom or on a leaf, ringed where it is
+        centre = (int(round(p.centroid[0])), int(round(p.centroid[1])))
+        radius = max(3, int(round(math.sqrt(p.area / math.pi)))) + 2 * thick
+        cv2.circle(out, centre, radius, _BUG_BGR, thick, cv2.LINE_AA)
+        _label(out, f"pest {p.confidence:.2f}", (centre[0] + radius, centre[1]), _BUG_BGR)
     _label(out, f"{frame.flower} x{frame.count}" + (" bug" if frame.bug else ""), (8, out.shape[0] - 10), _OTHER_BGR)
     return out
 

@@ -55,6 +55,8 @@ def _flower_text(path: Path, frame: FlowerFrame) -> str:
     head = f"{path}: {frame.flower}" + (f" x{frame.count}" if frame.blooms else "") + (", BUG" if frame.bug else "")
     rows = [f"  {b.cls:<6} at ({b.centroid[0]:.0f}, {b.centroid[1]:.0f})  area {b.area} px  "
             f"confidence {b.confidence:.2f}" + ("  bug" if b.bug else "") for b in frame.blooms]
+    rows += [f"  pest on a {p.on} at ({p.centroid[0]:.0f}, {p.centroid[1]:.0f})  area {p.area} px  "
+             f"confidence {p.confidence:.2f}" for p in frame.pests]
     return "\n".join([head, *rows])
 
 

@@ -30,7 +30,8 @@ def pot_changes(before: Observation, after: Observation) -> list[Change]:
     pot, out = after.pot_id, []
     if after.bug is True and before.bug is not True:
         why = "not judged before" if before.bug is None else "none before"
-        out.append(Change(pot, "pest_new", before.bug, True, f"pest on a {after.flower_color or '?'} bloom ({why})"))
+        plant = "a plant with no bloom" if after.flower_color == "none" else f"a {after.flower_color or '?'} plant"
+        out.append(Change(pot, "pest_new", before.bug, True, f"pest on {plant} ({why})"))
     if before.bug is True and after.bug is False:
         out.append(Change(pot, "pest_cleared", True, False, "no pest now"))
     if before.flower_color is not None and after.flower_color is not None and before.flower_color != after.flower_color:

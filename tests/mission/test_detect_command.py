@@ -64,6 +64,21 @@ def test_flower_text_output(capsys, tmp_path):
     assert out.splitlines()[0].endswith("p.png: pink x1") and "confidence" in out
 
 
+def test_a_pest_on_a_leaf_in_text_and_json(capsys, tmp_path):
+    img = np.full((480, 640, 3), 110, np.uint8)
+    cv2.circle(img, (300, 220), 100, (40, 140, 40), -1)  # a plant with no bloom
+    cv2.circle(img, (280, 200), 15, (10, 10, 10), -1)  # a pest on its leaves
+    path = str(tmp_path / "leaf.png")
+    cv2.imwrite(path, img)
+    code, out, _ = run(capsys, "detect", "flower", path)
+    assert code == 0 and out.splitlines()[0].endswith("leaf.png: none, BUG") and "pest on a leaf at (280, 200)" in out
+    code, out, _ = run(capsys, "detect", "flower", path, "--json")
+    (row,) = [json.loads(line) for line in out.splitlines()]
+    assert (row["class"], row["bug"], row["detections"]) == ("none", True, [])
+    (pest,) = row["pests"]
+    assert pest["on"] == "leaf" and pest["centroid"] == pytest.approx([280, 200], abs=2) and pest["confidence"] > 0.8
+
+
 def test_tag_json_pose(capsys, tmp_path):
     img = _tag(tmp_path / "t.png", 5)
     code, out, _ = run(capsys, "detect", "tag", img, "--json")
