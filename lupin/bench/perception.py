@@ -191,7 +191,7 @@ def render_shots(config: LupinConfig, world_seeds, count: int | None = None) -> 
             rt.robot.scheduler.run_for(0.3)  # the arm controller pins the joint state
             move_arm(rt, travel)
             jitter = LightingJitter(rt.sim.engine.model)
-            view = InspectView(config.arm, PatrolConfig())
+            view = InspectView(config.arm, config.patrol)
             for pot in world.pots:
                 if count is not None and done >= count:
                     break
@@ -229,7 +229,7 @@ def _shot(rt: SimRuntime, seg: mujoco.Renderer, jitter: LightingJitter, view: In
           rngs, config, world_seed: int, travel: str) -> Shot:
     sim = rt.sim
     rng, belief = rngs
-    patrol, ideal = PatrolConfig(), Pose2D(*approach_pose(pot))
+    patrol, ideal = config.patrol, Pose2D(*approach_pose(pot))
     noise, again = approach_noise(rng), False
     believed = _believed(approach_pose(pot, noise), belief)
     if distance(believed, ideal) > patrol.moved_approach_xy * 1.5:  # the patrol approaches again, closely

@@ -113,7 +113,7 @@ def snapshot(
     pose: Optional[str] = typer.Option(None, "--pose", help="Robot pose X,Y,YAW in the world frame (default: spawn)."),
     camera: str = typer.Option("front", "--camera", help="front | wrist | overview"),
 ) -> None:
-    """Render a camera with the robot at a pose (arm at inspect for the wrist camera) to PNG."""
+    """Render a camera with the robot at a pose (arm at the patrol's inspect pose for the wrist camera) to PNG."""
     if camera not in ("front", "wrist", "overview"):
         raise InputError(f"--camera {camera!r}: expected front, wrist or overview")
     xyyaw = parse_pose(pose) if pose is not None else None
@@ -124,7 +124,7 @@ def snapshot(
     config = run_config(ctx)
     from arm.presets import preset
 
-    arm = preset("inspect") if camera == "wrist" else None
+    arm = preset(config.patrol.inspect_pose) if camera == "wrist" else None
     image = render_snapshot(world_or_default(world), config.sim, config.hw, camera, xyyaw, arm)
     write_png(output, image)
     print(f"wrote {output} ({image.shape[1]}x{image.shape[0]}, {camera} camera)")

@@ -1,7 +1,9 @@
 """Patrol settings: the beat of the tree, the waits around the cameras, what counts as a pot's tag."""
 from __future__ import annotations
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, field_validator
+
+from arm.presets import PRESETS
 
 
 class PatrolConfig(BaseModel):
@@ -20,6 +22,13 @@ class PatrolConfig(BaseModel):
     the frame under the arm's real sag, not the seed's ``inspect``, which frames the plant's
     front edge and loses a back bloom or leaf when the arm sags (arm/presets.py; issue 30: the
     bloom was in view in 51 % of the ``perception.flower`` frames)."""
+    @field_validator("inspect_pose")
+    @classmethod
+    def _a_preset(cls, name: str) -> str:
+        if name not in PRESETS:
+            raise ValueError(f"unknown arm preset {name!r}; known: {', '.join(PRESETS)}")
+        return name
+
     arm_timeout: float = Field(15.0, gt=0)
     """Seconds for one arm move to arrive (a full-span move at 0.6 rad/s takes ~3 s)."""
     settle: float = Field(0.3, ge=0)
