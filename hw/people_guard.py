@@ -35,6 +35,8 @@ from hw.interfaces import Twist
 from hw.odometry import Pose2D
 from hw.people import PeopleSource, nobody
 
+#: Someone closing on the robot faster than this is coming at it, m/s (``_soonest_gap``).
+COMING = 0.3
 #: Below this linear speed (m/s) the base only turns: nothing to judge.
 MOVING = 1e-3
 
@@ -117,22 +119,20 @@ class PeopleGuard:
         return twist if action == NONE else Twist(float(v[0]), float(v[1]), wz)
 
     def _soonest_gap(self) -> float:
-        """The least body-to-body distance to anyone not walking into the robot, now or where
-        their walk takes them within ``still_lookahead`` (a grower crossing at 0.8 m/s closes
-        0.08 m per base tick, and the tracker sees them a scan late); inf with nobody about.
-        Someone whose straight walk would run into the robot's body is not waited for: standing
-        still in a walker's way is being walked into (people-crossing-no-yield, 105 s), so the
-        navigator steps aside and the rules below keep any motion from going towards them. One
-        who walks past, however close, is (people-crossing-no-yield, 22 s)."""
+        """The least body-to-body distance to anyone not coming at the robot, now or where their
+        walk takes them within ``still_lookahead`` (a grower crossing at 0.8 m/s closes 0.08 m
+        per base tick, and the tracker sees them a scan late); inf with nobody about. Someone
+        closing on it faster than ``COMING`` is not waited for: standing still in a walker's way
+        is being walked into (people-crossing-no-yield, 105 s), so the navigator steps aside
+        and the rules below keep any motion from going towards them."""
         people = [p for p in self.people() if p.confidence >= self.config.min_confidence]
         if not people:
             return math.inf
         r = self.pose()
         p = np.array([[q.x - r.x, q.y - r.y, q.vx, q.vy, q.radius] for q in people])
-        v2 = p[:, 2] ** 2 + p[:, 3] ** 2
-        t_near = np.where(v2 > 1e-9, np.maximum(-(p[:, 0] * p[:, 2] + p[:, 1] * p[:, 3]) / np.maximum(v2, 1e-9), 0.0), 0.0)
-        miss = np.hypot(p[:, 0] + p[:, 2] * t_near, p[:, 1] + p[:, 3] * t_near) - p[:, 4] - self.radius
-        p = p[~((t_near > 0) & (miss <= 0))]
+        dist = np.maximum(np.hypot(p[:, 0], p[:, 1]), 1e-9)
+        closing = -(p[:, 0] * p[:, 2] + p[:, 1] * p[:, 3]) / dist
+        p = p[closing <= COMING]
         if not len(p):
             return math.inf
         t = np.linspace(0.0, self.config.still_lookahead, 4)
