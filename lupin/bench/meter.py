@@ -19,7 +19,10 @@ work per scan over the patrol, and memory.
   instead, so the sim's clock cannot show the gap itself). The first scan (the worker starting
   up) is not a gap between two updates, and the map handed over whole at the patrol's end (a
   loop closure's re-render finished in that exchange, ``nav.slam.rerender``) is given apart as
-  ``slam_whole_map_ms``.
+  ``slam_whole_map_ms``. The busy time is wall time: on a machine shared with other work it
+  counts the time the worker waited for a core. ``slam_longest_gap_cpu_s`` is the same gap from
+  the worker's CPU seconds per scan (the difference of its CPU clock between two replies), what
+  the robot's worker, with the second core to itself, would take.
 - **Peak memory** is the high-water resident set of the runtime process during the patrol (the
   mark is reset at the start where Linux allows it) and of the SLAM worker.
 """
@@ -62,6 +65,8 @@ class PatrolMeter:
         self.cpu0, self.sim_cpu0 = time.process_time(), self.engine.cpu_s
         self.busy: list[float] = []
         self.settle: list[float] = []
+        self.scan_cpu: list[float] = []
+        """Per scan: the worker's CPU seconds on it (nan for a worker's first)."""
         self.moving: list[bool] = []
         """Per scan: had the robot moved since the scan before (1 cm or 0.01 rad)?"""
         self._last_pose = None
@@ -84,6 +89,7 @@ class PatrolMeter:
             self.solves.append(reply.solve_s)
         self.kept_bytes, self.keyframes, self.loop_closures = reply.kept_bytes, reply.keyframes, reply.loop_closures
         pid = self.slam.pid
+        self.scan_cpu.append(reply.cpu_s - self._worker_cpu[pid] if pid in self._worker_cpu else math.nan)
         self._worker_cpu[pid] = reply.cpu_s
         if len(self.busy) % 100 == 0:
             self.worker_hwm_mb = max(self.worker_hwm_mb, _hwm_mb(pid))
@@ -99,6 +105,7 @@ class PatrolMeter:
         period = self.slam.cfg.transform_publish_period
         settle = np.asarray(self.settle) * 1000.0
         between = (busy - settle)[1:] / 1000.0
+        cpu = np.asarray(self.scan_cpu)[1:][(settle[1:] == 0) & np.isfinite(self.scan_cpu[1:])]
         tenth = max(1, len(busy) // 10)
         first, last = busy[:tenth], busy[-tenth:]
         moving = np.asarray(self.moving, dtype=bool)
@@ -113,6 +120,9 @@ class PatrolMeter:
             "slam_longest_gap_s": round(period * max(1, math.ceil(between.max(initial=0.0) / period - 1e-9)), 3),
             "slam_longest_busy_ms": round(float(between.max(initial=0.0)) * 1000.0, 1),
             "slam_whole_map_ms": round(float(settle.max(initial=0.0)), 1),
+            "slam_longest_gap_cpu_s": round(period * max(1, math.ceil(cpu.max(initial=0.0) / period - 1e-9)), 3),
+            "slam_longest_scan_cpu_ms": round(float(cpu.max(initial=0.0)) * 1000.0, 1),
+            "slam_cpu_ms": _stats(cpu * 1000.0),
             "slam_last_over_first_median": round(float(np.median(last) / np.median(first)), 3) if len(busy) else None,
             "slam_moving_share": {"first_tenth": round(float(moving[:tenth].mean()), 3) if len(busy) else None,
                                   "last_tenth": round(float(moving[-tenth:].mean()), 3) if len(busy) else None},

@@ -161,7 +161,9 @@ def slam_scale(config: LupinConfig) -> Sample:
     first, last = cost["slam_first_tenth_ms"], cost["slam_last_tenth_ms"]
     return Sample([first["median"], last["median"]], {
         "longest_update_gap_s": cost["slam_longest_gap_s"], "longest_scan_ms": cost["slam_longest_busy_ms"],
-        "per_scan_ms": cost["slam_ms"], "whole_map_at_end_ms": cost["slam_whole_map_ms"],
+        "longest_update_gap_cpu_s": cost["slam_longest_gap_cpu_s"], "longest_scan_cpu_ms": cost["slam_longest_scan_cpu_ms"],
+        "per_scan_ms": cost["slam_ms"], "per_scan_cpu_ms": cost["slam_cpu_ms"],
+        "whole_map_at_end_ms": cost["slam_whole_map_ms"],
         "scans": cost["slam_scans"], "keyframes": cost["slam_keyframes"], "distance_m": doc["distance_m"],
         "first_tenth_ms": first, "last_tenth_ms": last, "last_over_first_median": cost["slam_last_over_first_median"],
         "last_over_first_p95": round(last["p95"] / first["p95"], 3),

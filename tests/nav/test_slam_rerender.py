@@ -128,3 +128,18 @@ def test_a_worker_lost_mid_way_through_a_redraw_is_replaced_by_one_that_draws_it
             break
     assert restored.swaps == 1 and cp.rerender is None
     np.testing.assert_array_equal(cp.occupancy.occupancy, restored.occupancy().occupancy)
+
+
+def test_a_map_to_keep_has_the_pending_redraw_finished_first():
+    mapper = Mapper(SlamConfig(), MOUNT, Pose2D())
+    forced_closure(mapper)
+    k = 0
+    while mapper.rerendering is None:
+        s = scan(k)
+        mapper.process(s.angles, s.ranges, odom(k))
+        k += 1
+    pending, drawn = len(mapper.rerendering.queue), mapper.rerendered
+    assert pending > BUDGET  # more than one scan's share is left
+    mapper.settle()  # a patrol's end or a map save: the map handed back is the moved one
+    assert mapper.rerendering is None and mapper.swaps == 1 and mapper.rerendered - drawn == pending
+    assert mapper.delta().occupancy is not None  # and the checkpoint takes it
