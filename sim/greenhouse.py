@@ -34,7 +34,11 @@ class and no other; nothing else the wrist camera sees at ``inspect`` (foliage, 
 floor, plate, the robot's fingers) falls in any class, pests included (V < 50 only on the
 pest). That is why the floor is a mid grey (V < 140: not "white"), the pot is orange rather
 than red-brown (H >= 15: not "pink"), the foliage is bright enough that its shaded side stays
-above V 50, and the tag plates are navy on pale blue (see sim/apriltag.py).
+above V 50, and the tag plates are navy on pale blue (see sim/apriltag.py). The patrol's view
+(``inspect_plant``, issue 30) takes in more of what lies beyond the plant: under a bright
+jittered light the pale wall behind a row by the wall (H 80..87, S 32..36) and a plate's sunlit
+edge (S ~24) can fall in ``white``; the detector drops bloom-coloured blobs with no leaf
+around them (``perception.config.FlowerConfig.min_leaf_ring``).
 
 Public API: :func:`build_greenhouse`, :func:`greenhouse_xml`, :data:`ROBOT_XML`,
 :data:`SPARE_BOXES`.
