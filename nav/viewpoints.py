@@ -103,18 +103,35 @@ def lattice_angle(pots: np.ndarray) -> float:
     return float(np.angle(np.exp(4j * bearing).mean()) / 4)  # a period of 90 deg: 1 and 89 deg agree
 
 
-def looks(pots: np.ndarray, costmap: CostGrid, standoff: float) -> list[Look]:
-    """The looks at each pot from the four sides along the lattice where the robot fits."""
+def looks(pots: np.ndarray, costmap: CostGrid, standoff: float, slants: tuple[float, ...] = ()) -> list[Look]:
+    """The looks at each pot from the four sides along the lattice where the robot fits. A side
+    where it does not fit square on is looked at from ``slants`` (rad) off it instead, the first
+    that fits on either hand: a pot pushed into an aisle leaves no room square in front of it
+    (the pot across the aisle is in the way) but room beside that pot, and its plate still
+    faces the aisle."""
     base = lattice_angle(pots)
     out = []
     for i, (px, py) in enumerate(pots):
         for k in range(4):
             a = base + k * math.pi / 2
-            x, y = px + standoff * math.cos(a), py + standoff * math.sin(a)
-            cost = int(costmap.cost_at(x, y))
-            if cost < INSCRIBED and cost != UNKNOWN:
-                out.append(Look(float(x), float(y), math.atan2(math.sin(a + math.pi), math.cos(a + math.pi)), i))
+            square = _look(px, py, a, i, costmap, standoff)
+            if square is not None:
+                out.append(square)
+                continue
+            for hand in (1.0, -1.0):
+                slanted = next((v for s in slants if (v := _look(px, py, a + hand * s, i, costmap, standoff))), None)
+                if slanted is not None:
+                    out.append(slanted)
     return out
+
+
+def _look(px: float, py: float, a: float, pot: int, costmap: CostGrid, standoff: float) -> Look | None:
+    """The look at the pot at (px, py) from bearing ``a``, ``standoff`` out, if the robot fits there."""
+    x, y = px + standoff * math.cos(a), py + standoff * math.sin(a)
+    cost = int(costmap.cost_at(x, y))
+    if cost >= INSCRIBED or cost == UNKNOWN:
+        return None
+    return Look(float(x), float(y), math.atan2(math.sin(a + math.pi), math.cos(a + math.pi)), pot)
 
 
 @dataclass(frozen=True)

@@ -34,6 +34,11 @@ from perception.detections import TagRead
 SEARCH_BACK = 0.2
 """Metres the search first steps back along the robot's heading, and farther the second ring of
 looks stands."""
+SLANTS = (0.25, 0.5)
+"""Radians off square a search looks at a pot from where the robot does not fit square on to it
+(``nav.viewpoints.looks``): a pot pushed 0.18 m into a 0.8 m aisle and turned 0.24 rad (the
+30 m two-bay greenhouse's P18) left no look square in front of it, the pot across the aisle in
+the way; at 0.25-0.5 rad its plate is still read well within the reader's angle."""
 
 
 @dataclass
@@ -125,7 +130,7 @@ class PotFinder:
         blobs = pot_blobs(occupancy, self.config.pot_radius)
         near = blobs[np.hypot(blobs[:, 0] - pot.x, blobs[:, 1] - pot.y) <= self.config.search_radius] if len(blobs) else blobs
         out = [Pose2D(v.x, v.y, v.yaw) for standoff in (self.mission.standoff, self.mission.standoff + SEARCH_BACK)
-               for v in looks(near, grid, standoff)]
+               for v in looks(near, grid, standoff, SLANTS)]
 
         def order(p: Pose2D) -> tuple[bool, float]:
             facing_it = abs(math.remainder(p.yaw - (pot.facing + math.pi), 2 * math.pi)) < math.pi / 4

@@ -89,3 +89,33 @@ def test_looks_string_into_lanes_along_the_rows_cut_at_gaps():
     assert got == [((0, 1, 2), 2.0), ((3, 4), 1.0), ((9,), 0.0)]
     lane = next(lane for lane in out if len(lane.looks) == 3)
     assert lane.reversed().start == lane.end and lane.reversed().looks[0].pot == 2
+
+
+def test_a_pot_pushed_into_the_aisle_is_looked_at_slanted_where_square_on_is_blocked():
+    """Two rows a metre apart, their pots drawn whole; the middle pot of the south row pushed
+    0.2 m into the aisle: square on from the aisle the robot would stand 0.2 m from the pot
+    across (inside its inscribed radius), so no look faces it from there, but slanted looks do
+    (the two-bay greenhouse's P18 was never found for want of one)."""
+    occ = np.zeros((80, 120), np.int8)
+    occ[0, :] = occ[-1, :] = occ[:, 0] = occ[:, -1] = 100
+    pushed = (3.0, 2.0)
+    centres = [(x, 1.8) for x in (2.0, 4.0)] + [pushed] + [(x, 2.8) for x in (2.0, 3.0, 4.0)]
+    for px, py in centres:
+        for t in np.linspace(0.0, 2 * math.pi, 40, endpoint=False):
+            occ[int((py + 0.1 * math.sin(t)) / 0.05), int((px + 0.1 * math.cos(t)) / 0.05)] = 100
+    m = OccupancyMap(occ, 0.05, 0.0, 0.0)
+    blobs, cm = pot_blobs(m, POT_RADIUS), costmap_of(m)
+    k = int(np.argmin(np.hypot(blobs[:, 0] - pushed[0], blobs[:, 1] - pushed[1])))
+
+    def from_the_aisle(views):  # looking at the pushed pot from the north, within 45 deg
+        return [v for v in views if v.pot == k and abs(math.remainder(v.yaw + math.pi / 2, 2 * math.pi)) < math.pi / 4]
+
+    assert from_the_aisle(looks(blobs, cm, 0.5)) == []
+    slanted = from_the_aisle(looks(blobs, cm, 0.5, (0.25, 0.5)))
+    assert len(slanted) == 2 and all(int(cm.cost_at(v.x, v.y)) < INSCRIBED for v in slanted)
+    assert {v.x > pushed[0] for v in slanted} == {True, False}  # one on either hand
+    for v in slanted:  # still half a metre out, facing the pot
+        assert math.hypot(blobs[k][0] - v.x, blobs[k][1] - v.y) == pytest.approx(0.5)
+        assert math.atan2(blobs[k][1] - v.y, blobs[k][0] - v.x) == pytest.approx(v.yaw, abs=1e-6)
+    square, both = looks(blobs, cm, 0.5), looks(blobs, cm, 0.5, (0.25, 0.5))
+    assert set(square) <= set(both)  # a side square on fits is looked at square on, as before
