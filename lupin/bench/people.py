@@ -124,11 +124,12 @@ def static_map(world: World, config: LupinConfig, poses, mount, resolution: floa
 def run_world(seed: int, config: LupinConfig) -> dict:
     world = people_world(seed)
     poses = path_poses()
-    mount = Pose2D(*config.nav.navigator.lidar_mount)
+    mount = tuple(config.nav.navigator.lidar_mount)
     robot = SimRobot(world, config.sim, config.hw)
-    grid = static_map(world, config, poses, tuple(mount))
+    grid = static_map(world, config, poses, mount)
     here = [Pose2D(*poses[0])]
-    people = People(config.perception.people, robot.lidar.latest_scan, lambda: here[0], mount, Pose2D, lambda: grid)
+    people = People(config.perception.people, robot.lidar.latest_scan, lambda: here[0], Pose2D(*mount), Pose2D,
+                    lambda: grid)
     people.watch([(p.x, p.y) for p in world.pots], config.patrol.pot_radius)
     out = {"times": [], "wanted": 0, "found": 0, "reported": 0, "right": 0, "out_of_view": 0,
            "by_posture": {}, "acted_found": 0, "acted_by_posture": {}, "acted_reported": 0, "acted_right": 0}
@@ -142,7 +143,7 @@ def run_world(seed: int, config: LupinConfig) -> dict:
             robot.place(*pose)
             here[0] = Pose2D(*pose)
             robot.engine.advance_to(robot.engine.time + 1.0 / RATE)
-            pts = scan_points(robot, pose, tuple(mount))
+            pts = scan_points(robot, pose, mount)
             t0 = time.perf_counter()
             people.tick(robot.engine.time)
             out["times"].append((time.perf_counter() - t0) * 1000.0)
