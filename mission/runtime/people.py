@@ -41,6 +41,8 @@ people    10 Hz   the lidar's rate: one tracker update per revolution
 """
 from __future__ import annotations
 
+import logging
+import math
 from collections import deque
 from typing import TYPE_CHECKING, Callable, Optional, Sequence
 
@@ -62,6 +64,8 @@ from perception.people.tracker import PersonTracker, odom_points
 
 if TYPE_CHECKING:
     from mission.runtime.robot import Robot
+
+log = logging.getLogger("lupin")
 
 HOP = 0.3
 """A track that moved more than this between two scans (3 m/s at 10 Hz, twice a brisk walk)
@@ -94,6 +98,9 @@ REBORN = 0.8
 """A track born this near where a person's was lost is theirs, m: the gate of the tracker
 (``PeopleConfig.gate``), a step and a half."""
 
+FAULT_LOG_GAP = 60.0
+"""A failing tracker is logged at most this often, s (with its traceback)."""
+
 RATE = 10.0
 """Tracker updates per second: the C1's revolutions (a new scan each)."""
 
@@ -119,6 +126,9 @@ class People:
         """Per track: whether it was seen as a leg arc, on each of its last ``LEG_WINDOW`` scans."""
         self._origin: dict[int, tuple[float, float]] = {}
         self._last: dict[int, tuple[float, float]] = {}
+        self.failures = 0
+        """Scans the tracker failed on (``tick``)."""
+        self._failed_at = -math.inf
         self.guard: PeopleGuard | None = None
         """The people guard on the base (``attach_people``)."""
         self.scene: StaticScene | None = None
@@ -153,6 +163,20 @@ class People:
         return self.pairs.get(track, 0) >= LEGS_SEEN or sum(self.arcs.get(track, ())) >= LEG_SCANS
 
     def tick(self, now: float) -> None:
+        """One tracker update on the newest scan. A fault in it (a numerical corner the fits did
+        not foresee) is logged and this scan's people dropped, never raised: it would take the
+        whole runtime down with it, base and e-stop included, while the collision monitor below
+        the people guard goes on judging the raw scan either way."""
+        try:
+            self._tick()
+        except Exception:  # noqa: BLE001 - the runtime's control loop must outlive the tracker
+            self.failures += 1
+            if now - self._failed_at >= FAULT_LOG_GAP:
+                log.exception("person tracker failed on a scan (%d so far); people dropped for it", self.failures)
+                self._failed_at = now
+            self.tracks = ()
+
+    def _tick(self) -> None:
         if self._pots is None:
             return
         live = self.occupancy()

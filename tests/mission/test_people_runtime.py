@@ -218,3 +218,19 @@ def test_a_person_lost_for_a_moment_is_a_person_again_at_once_where_they_were_lo
     rig.points = seen
     rig.ticks(1)
     assert rig.people.current() and rig.people.confident() == ()
+
+
+def test_a_tracker_that_fails_on_a_scan_is_logged_and_drops_its_people_without_raising(caplog):
+    walls, pots = scene()
+    rig = Rig(mapped(walls), heading=math.pi)
+    rig.people.watch(pots, 0.10)
+    assert rig.ticks(5)
+
+    def broken(*args):
+        raise np.linalg.LinAlgError("Singular matrix")
+
+    rig.people.tracker.update = broken
+    with caplog.at_level("ERROR", logger="lupin"):
+        assert rig.ticks(3) == ()
+    assert rig.people.failures == 3
+    assert sum("person tracker failed" in r.message for r in caplog.records) == 1  # once a minute, not per scan
