@@ -43,8 +43,8 @@ class PotVisit:
     """The map's drift from the mission's frame where the pot was located (``located`` less this
     is where the pot stands in the mission's frame): the offset the moved decision was made on."""
     drift_known: bool = False
-    """The located neighbours agreed on ``drift`` (else it is zero and ``moved`` provisional,
-    judged again at the patrol's end)."""
+    """The neighbours read nearest in time agreed on ``drift`` (else it is what all those near
+    agree on, or zero, and ``moved`` is provisional, judged again at the patrol's end)."""
     failures: dict[str, str] = field(default_factory=dict)
     """Step -> why it failed ('approach', 'search', 'arm', 'wrist', 'front')."""
     done: bool = False

@@ -21,7 +21,7 @@ from behaviours.visit import PotVisit
 from hw.odometry import Pose2D
 from mission.approach import approach_pose
 from mission.patrol.config import PatrolConfig
-from mission.patrol.map_drift import MapDrift, in_mission_frame, walls_apart
+from mission.patrol.map_drift import Drift, MapDrift, corrections, in_mission_frame, walls_apart
 from mission.patrol.mission_file import Mission, MissionPot
 from mission.patrol.tag_sightings import pot_from_tag
 from nav.costmap.grid import INSCRIBED
@@ -51,6 +51,7 @@ class PotFinder:
 
     def __post_init__(self):
         self.drift = MapDrift(self.config.drift_radius, self.config.moved_xy / 2)
+        self.drift.epoch = lambda: corrections(self.nav.localisation if self.nav else None)
 
     def own_tag(self, pot: MissionPot, reads: tuple[TagRead, ...], reach: float) -> TagRead | None:
         """The pot's own tag among ``reads``, read no farther than ``reach``."""
@@ -74,23 +75,25 @@ class PotFinder:
         self.drift.record((pot.x, pot.y), (s.x - pot.x, s.y - pot.y))
         return True
 
-    def _judge(self, pot: MissionPot, visit: PotVisit, drift: tuple[float, float] | None) -> None:
-        visit.drift, visit.drift_known = drift or (0.0, 0.0), drift is not None
+    def _judge(self, pot: MissionPot, visit: PotVisit, drift: Drift | None) -> None:
+        visit.drift = drift.offset if drift is not None else (0.0, 0.0)
+        visit.drift_known = drift is not None and drift.known
         off, turn = self.offset(pot, visit)
         visit.moved = off > self.config.moved_xy or turn > self.config.moved_yaw
 
     def rejudge(self, visits: dict[str, PotVisit]) -> list[MissionPot]:
-        """At the patrol's end: the pots found moved with no drift to go by (the first pots of a
-        patrol, or past a bay's divider), judged again against the drift of every pot located
-        since (the pot itself left out); the pots no longer moved. Only a provisional ``moved``
-        is taken back, never one added: the drift grows with the patrol, so a neighbour located
-        an hour later may carry drift this pot's early read never had."""
+        """At the patrol's end: the pots found moved with no recent neighbours to read the drift
+        off (the first pots of a patrol or after SLAM's solve, or past a bay's divider), judged
+        again on the neighbours read nearest in time to them since the same solve, those
+        read after included (the pot itself left out); the pots no longer moved. Only a
+        provisional ``moved`` is taken back, never one added: the drift grows with the patrol,
+        so a neighbour located an hour later may carry drift this pot's early read never had."""
         changed = []
         for pot in self.mission.pots:
             visit = visits.get(pot.id)
             if visit is None or visit.located is None or visit.drift_known or not visit.moved:
                 continue
-            drift = self.drift.consensus(pot.x, pot.y, skip=(pot.x, pot.y))
+            drift = self.drift.consensus(pot.x, pot.y, again=True)
             if drift is None:
                 continue
             was = visit.moved
