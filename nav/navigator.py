@@ -287,10 +287,10 @@ class Navigator:
             return False
         return self._hold(now, dt, "something in the way")
 
-    def _hold(self, now: float, dt: float, why: str) -> bool:
-        """Count ``dt`` of waiting against ``blocked_wait`` with the goal's clocks stopped; True
-        when the wait ran out and the goal failed ``blocked``."""
-        wait = self.config.navigator.blocked_wait
+    def _hold(self, now: float, dt: float, why: str, wait: float | None = None) -> bool:
+        """Count ``dt`` of waiting against ``wait`` (``blocked_wait`` when None) with the goal's
+        clocks stopped; True when the wait ran out and the goal failed ``blocked``."""
+        wait = self.config.navigator.blocked_wait if wait is None else wait
         if self.held_for == 0.0:
             log.info("%s: waiting up to %.0f s", why, wait)
         self.held_for += dt
@@ -317,7 +317,7 @@ class Navigator:
         if not why:
             return False
         self.smoother.reset()
-        if not self._hold(now, dt, why):  # waiting at a distance: backing off to ``wait_clearance``
+        if not self._hold(now, dt, why, self.config.navigator.person_wait):  # at a distance: ``wait_clearance``
             self.io.publish(self._evade(self.people.layer.wait_clearance), now)
         return True
 
@@ -398,7 +398,7 @@ class Navigator:
                 self.io.publish(ZERO_TWIST, now)
                 return
             if self._person_close():  # a person's keep-out: out of their way, not a recovery
-                if not self._hold(now, dt, "a person close by"):
+                if not self._hold(now, dt, "a person close by", self.config.navigator.person_wait):
                     self.io.publish(self._evade(), now)
                 return
             self._start_recovery(now, str(exc))
