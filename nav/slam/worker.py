@@ -120,10 +120,11 @@ def serve(conn: Connection, config: dict, mount: tuple[float, float, float]) -> 
                 restore = time.perf_counter() - t0
         solves = mapper.solves
         pose = mapper.process(msg.angles, msg.ranges, msg.odom)
-        t1 = time.perf_counter()
+        settle = 0.0
         if msg.whole:
+            t1 = time.perf_counter()
             mapper.settle()
-        settle = time.perf_counter() - t1
+            settle = time.perf_counter() - t1
         occ = mapper.occupancy() if msg.want_map else None
         busy = time.perf_counter() - t0
         reply = Reply(msg.stamp, pose, mapper.map_to_odom, mapper.keyframes, mapper.loop_closures,

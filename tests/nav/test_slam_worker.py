@@ -52,6 +52,7 @@ def test_lockstep_applies_each_reply_one_tick_later_and_hands_back_the_map():
             sup.tick(robot.now)
             if k >= 1:  # the reply to the scan sent one tick earlier is in, every time
                 assert sup.last_reply is not None and sup.last_reply.stamp == pytest.approx(0.1 * (k - 1))
+                assert sup.last_reply.settle_s == 0.0  # no map to keep was asked for: nothing settled
             if k >= 6:
                 settled.append(sup.map_to_odom())
         assert sup.has_map() and sup.ready()
