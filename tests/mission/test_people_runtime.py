@@ -39,12 +39,13 @@ def lidar_scan(points: np.ndarray, stamp: float) -> LidarScan:
                      np.hypot(d[:, 0], d[:, 1]).astype(np.float32))
 
 
-def with_cells(m: OccupancyMap, x: float, y: float, r: float) -> OccupancyMap:
+def with_cells(m: OccupancyMap, x: float, y: float, r: float, value: int = 100) -> OccupancyMap:
+    """``m`` with the disc of radius ``r`` at (x, y) set to ``value`` (100 occupied, 0 free)."""
     occ = m.occupancy.copy()
     g = m.geometry
     gy, gx = np.mgrid[0:g.height, 0:g.width]
     cx, cy = g.centre_of(gx, gy)
-    occ[np.hypot(cx - x, cy - y) <= r] = 100
+    occ[np.hypot(cx - x, cy - y) <= r] = value
     return OccupancyMap(occ, m.resolution, m.origin_x, m.origin_y)
 
 
@@ -169,15 +170,6 @@ def test_a_worker_standing_side_on_is_a_person_once_seen_as_a_leg_arc_scan_after
     assert rig.people.current() and rig.people.confident() == ()
 
 
-def with_free(m: OccupancyMap, x: float, y: float, r: float) -> OccupancyMap:
-    occ = m.occupancy.copy()
-    g = m.geometry
-    gy, gx = np.mgrid[0:g.height, 0:g.width]
-    cx, cy = g.centre_of(gx, gy)
-    occ[np.hypot(cx - x, cy - y) <= r] = 0
-    return OccupancyMap(occ, m.resolution, m.origin_x, m.origin_y)
-
-
 def test_someone_standing_in_the_first_map_is_not_explained_by_it_once_seen_gone():
     """A grower standing at the start of their round is in the first map; once SLAM sees the
     spot free, the first map stops explaining it, and they are tracked when they come back."""
@@ -186,7 +178,7 @@ def test_someone_standing_in_the_first_map_is_not_explained_by_it_once_seen_gone
     rig = Rig(first, heading=math.pi)
     rig.people.watch(pots, 0.10)
     assert rig.ticks(5) == ()  # explained by the first map: they were there at the start
-    rig.map = with_free(mapped(walls), *WORKER, 0.3)  # they walked off: SLAM saw the spot free
+    rig.map = with_cells(mapped(walls), *WORKER, 0.3, value=0)  # they walked off: SLAM saw the spot free
     rig.ticks(1)
     rig.map = with_cells(mapped(walls), *WORKER, 0.2)  # and came back
     people = rig.ticks(5)
