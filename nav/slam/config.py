@@ -24,8 +24,9 @@ class SlamConfig(Strict):
     """kiss-icp's local-map voxel, m (kiss-icp sizes it at ~1 % of the range it sees: 0.1 m at
     the C1's 12 m). Measured on the greenhouse survey: 0.10 m gives 6 mm trajectory error at
     2 ms a scan, 0.05 m 8 mm at 3 ms, 0.03 m 14 mm (too few points per voxel to average noise),
-    with the registered scan thinned to 1.5 voxels as kiss-icp does; it is now thinned to one
-    (``lidar_odometry.SOURCE_VOXEL``: at 1.5 the heading drifted and the 180-pot map bent)."""
+    with the registered scan thinned to 1.5 voxels as kiss-icp does; it is now the scan
+    registered as it goes into the local map, at half a voxel (``nav.slam.lidar_odometry``: at
+    1.5 the heading drifted and the 180-pot map bent)."""
     max_points_per_voxel: int = Field(3, gt=0)
     """kiss-icp's points kept per voxel. Its default 20 is for 3D voxels a surface crosses; a 2D
     scan's voxel is crossed by a line, and each drive past a spot adds points to its voxels until
