@@ -57,8 +57,10 @@ def test_lockstep_applies_each_reply_one_tick_later_and_hands_back_the_map():
                 settled.append(sup.map_to_odom())
         assert sup.has_map() and sup.ready()
         assert (sup.occupancy.occupancy >= 65).sum() > 100
-        m2o = sup.map_to_odom()  # standing still at the dock: ICP's millimetre, and no drift
-        assert abs(m2o.x) < 2e-3 and abs(m2o.y) < 2e-3 and abs(m2o.yaw) < 2e-3  # 1.1 mm measured
+        m2o = sup.map_to_odom()  # standing still at the dock: ICP's millimetres, and no drift
+        # 3.0 mm measured on these scans quantised to 5 cm cells (1.1 mm when the registered scan
+        # was thinned to 15 cm, which turned the heading on every real turn: nav.slam.lidar_odometry)
+        assert abs(m2o.x) < 5e-3 and abs(m2o.y) < 5e-3 and abs(m2o.yaw) < 2e-3
         assert all(abs(p.x - m2o.x) < 1e-6 and abs(p.y - m2o.y) < 1e-6 and abs(p.yaw - m2o.yaw) < 1e-6
                    for p in settled)
     finally:
