@@ -21,7 +21,12 @@ whole map to keep (``Mapper.settle``: the patrol's end, a map save) has the rest
 
 A second solve before the first is drawn restarts the drawing over both regions (the shadow's
 scans were drawn at poses that just moved again); loop closures come at least ``LOOP_GAP``
-of travel apart, so a drawing of ~2,000 scans (~100 scans, 10 s) is seldom restarted.
+of travel apart, so a drawing of ~2,000 scans (~50 scans, 5 s) is seldom restarted.
+
+Measured on the scans of a recorded 180-pot patrol with 42 loop closures and 10 solves (CPU per
+scan, in one process): drawn at once, the longest scan took 1,013 ms; drawn a share a scan, 136 ms
+(a solve of 1,400 keyframes), median 1.73 -> 1.75 ms and p95 2.65 -> 2.81 ms (the 2 % of scans
+carrying a share).
 """
 from __future__ import annotations
 
