@@ -68,12 +68,11 @@ def same_side(_a, _b) -> bool:
 
 
 def corrections(localisation) -> int:
-    """SLAM's pose-graph solves so far (its checkpoint's counters: scans, loop closures, solves,
-    ...): each moves the robot back onto the map it made before. A loop closure that agrees with
-    the graph is not solved and moves nothing (on the 180-pot patrol 14 of 142 were solved).
-    0 for a localisation without them (AMCL on a saved map, odometry alone)."""
-    counters = getattr(getattr(localisation, "checkpoint", None), "counters", None)
-    return int(counters[2]) if counters else 0
+    """SLAM's pose-graph solves so far (``nav.slam.checkpoint.Checkpoint.solves``): each moves
+    the robot back onto the map it made before. A loop closure that agrees with the graph is not
+    solved and moves nothing (on the 180-pot patrol 14 of 142 were solved). 0 for a localisation
+    without them (AMCL on a saved map, odometry alone)."""
+    return getattr(getattr(localisation, "checkpoint", None), "solves", 0)
 
 
 def walls_apart(occupancy: OccupancyMap | None, step: float = 0.05) -> Apart:

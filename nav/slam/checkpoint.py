@@ -91,6 +91,12 @@ class Checkpoint:
     """The region a re-render was drawing: the map there is at the poses before the solve."""
 
     @property
+    def solves(self) -> int:
+        """Pose-graph solves so far: each moves the robot back onto the map it made before
+        (``mission.patrol.map_drift`` starts reading the drift afresh after one)."""
+        return int(self.counters[2])
+
+    @property
     def empty(self) -> bool:
         """Nothing to start from (no keyframe yet, or no map yet)."""
         return len(self.poses) == 0 or self.occupancy is None
