@@ -90,8 +90,9 @@ class PeopleGuard:
     def judge(self, twist: Twist, now: float = 0.0) -> Twist:
         """The twist the people rules allow (``filter`` without what lies below) at ``now``."""
         speed = math.hypot(twist.vx, twist.vy)
-        near = self._near()
-        soon = self._soonest_gap()
+        rel = self._relative()
+        near = self._near(rel)
+        soon = self._soonest_gap(rel)
         close = soon < self.config.still_distance
         if not close:
             self._still_since = None
@@ -118,21 +119,23 @@ class PeopleGuard:
         self.verdict = PeopleVerdict(action, scale, float(gap.min()))
         return twist if action == NONE else Twist(float(v[0]), float(v[1]), wz)
 
-    def _soonest_gap(self) -> float:
+    def _relative(self) -> np.ndarray:
+        """The people that count, read once a tick: (P, 5) rows of their offset from the robot
+        (odom axes), velocity and radius."""
+        r = self.pose()
+        return np.array([[p.x - r.x, p.y - r.y, p.vx, p.vy, p.radius] for p in self.people()
+                         if p.confidence >= self.config.min_confidence]).reshape(-1, 5)
+
+    def _soonest_gap(self, rel: np.ndarray) -> float:
         """The least body-to-body distance to anyone not coming at the robot, now or where their
         walk takes them within ``still_lookahead`` (a grower crossing at 0.8 m/s closes 0.08 m
         per base tick, and the tracker sees them a scan late); inf with nobody about. Someone
         closing on it faster than ``COMING`` is not waited for: standing still in a walker's way
         is being walked into (people-crossing-no-yield, 105 s), so the navigator steps aside
         and the rules below keep any motion from going towards them."""
-        people = [p for p in self.people() if p.confidence >= self.config.min_confidence]
-        if not people:
-            return math.inf
-        r = self.pose()
-        p = np.array([[q.x - r.x, q.y - r.y, q.vx, q.vy, q.radius] for q in people])
-        dist = np.maximum(np.hypot(p[:, 0], p[:, 1]), 1e-9)
-        closing = -(p[:, 0] * p[:, 2] + p[:, 1] * p[:, 3]) / dist
-        p = p[closing <= COMING]
+        dist = np.maximum(np.hypot(rel[:, 0], rel[:, 1]), 1e-9)
+        closing = -(rel[:, 0] * rel[:, 2] + rel[:, 1] * rel[:, 3]) / dist
+        p = rel[closing <= COMING]
         if not len(p):
             return math.inf
         t = np.linspace(0.0, self.config.still_lookahead, 4)
@@ -140,19 +143,16 @@ class PeopleGuard:
         y = p[:, None, 1] + p[:, None, 3] * t
         return float((np.hypot(x, y) - p[:, None, 4]).min() - self.radius)
 
-    def _near(self) -> tuple[np.ndarray, np.ndarray] | None:
+    def _near(self, rel: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
         """Unit directions to the people that count (base frame, (P, 2)) and their body-to-body
         distances; None with nobody about."""
-        people = [p for p in self.people() if p.confidence >= self.config.min_confidence]
-        if not people:
+        if not len(rel):
             return None
-        r = self.pose()
-        d = np.array([[p.x - r.x, p.y - r.y] for p in people])
-        c, s = math.cos(r.yaw), math.sin(r.yaw)
-        base = d @ np.array([[c, -s], [s, c]])  # world -> base: rotate by -yaw
+        yaw = self.pose().yaw
+        c, s = math.cos(yaw), math.sin(yaw)
+        base = rel[:, :2] @ np.array([[c, -s], [s, c]])  # world -> base: rotate by -yaw
         dist = np.maximum(np.hypot(base[:, 0], base[:, 1]), 1e-9)
-        gap = dist - np.array([p.radius for p in people]) - self.radius
-        return base / dist[:, None], gap
+        return base / dist[:, None], dist - rel[:, 4] - self.radius
 
 
 def _without_towards(v: np.ndarray, toward: np.ndarray) -> np.ndarray:
