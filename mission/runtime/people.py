@@ -115,6 +115,7 @@ class People:
         self.map_to_odom, self.occupancy = map_to_odom, occupancy
         self.tracks: tuple[Person, ...] = ()
         """The newest people, odom frame."""
+        self._shown: tuple[Person, ...] = ()
         self.walked: set[int] = set()
         """Ids of the tracks that have walked: people (``confident``)."""
         self.pairs: dict[int, int] = {}
@@ -155,8 +156,9 @@ class People:
         return self.confident
 
     def confident(self) -> Sequence[Person]:
-        """The people the distance rules act on: the tracks that have walked (module docstring)."""
-        return tuple(p for p in self.tracks if p.id in self.walked or p.id in self.inherited or self.legged(p.id))
+        """The people the distance rules act on (module docstring): chosen once a scan, read by
+        the guard at every base tick and by both costmaps and the navigator."""
+        return self._shown
 
     def legged(self, track: int) -> bool:
         """Has the track shown a person's legs (a pair, or a leg arc scan after scan)?"""
@@ -174,7 +176,7 @@ class People:
             if now - self._failed_at >= FAULT_LOG_GAP:
                 log.exception("person tracker failed on a scan (%d so far); people dropped for it", self.failures)
                 self._failed_at = now
-            self.tracks = ()
+            self.tracks, self._shown = (), ()
 
     def _tick(self) -> None:
         if self._pots is None:
@@ -210,6 +212,8 @@ class People:
                         else self._origin[p.id] for p in self.tracks}
         self.walked = {p.id for p in self.tracks if p.id in self.walked
                        or np.hypot(p.x - self._origin[p.id][0], p.y - self._origin[p.id][1]) > WALKED}
+        self._shown = tuple(p for p in self.tracks
+                            if p.id in self.walked or p.id in self.inherited or self.legged(p.id))
 
     def _inherit(self, stamp: float, shown: dict[int, tuple[float, float]]) -> None:
         """A person's track lost (hidden a moment, or cut by the map at a wall) leaves where it
