@@ -33,6 +33,7 @@ from lupin.cli.console import console
 from lupin.cli.serve import serve
 from lupin.cli.sim import run_config, sim_app
 from lupin.cli.survey import survey
+from lupin.cli.web import web
 
 app = typer.Typer(
     name="lupin",
@@ -54,6 +55,7 @@ app.command("patrol")(patrol)
 app.command("survey")(survey)
 app.command("serve")(serve)
 app.command("console")(console)
+app.command("web")(web)
 
 
 @app.callback()

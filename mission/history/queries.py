@@ -12,6 +12,7 @@ real patrols of a mission of the same name.
 from __future__ import annotations
 
 from collections import defaultdict
+from datetime import timedelta
 
 from sqlalchemy import Connection, and_, case, func, or_, select
 
@@ -55,8 +56,9 @@ def patrol(conn: Connection, patrol_id: int) -> Patrol | None:
 
 
 def patrols(conn: Connection, mission: str | None = None, robot: str | None = None,
-            limit: int | None = None) -> list[Patrol]:
-    """Patrols, newest first, each with its rows counted (those of the patrols listed only)."""
+            limit: int | None = None, offset: int = 0) -> list[Patrol]:
+    """Patrols, newest first (from the ``offset``-th), each with its rows counted (those of the
+    patrols listed only)."""
     q = select(P).order_by(*NEWEST_FIRST)
     if mission is not None:
         q = q.where(P.c.mission == mission)
@@ -64,14 +66,41 @@ def patrols(conn: Connection, mission: str | None = None, robot: str | None = No
         q = q.where(P.c.robot == robot)
     if limit is not None:
         q = q.limit(limit)
+    if offset:
+        q = q.offset(offset)
     rows = conn.execute(q).all()
+    counts = _row_counts(conn, [r.id for r in rows])
+    return [_patrol(r, *counts.get(r.id, (0, 0))) for r in rows]
+
+
+def _row_counts(conn: Connection, ids: list[int]) -> dict[int, tuple[int, int]]:
+    """(rows, rows with a pest) of each patrol in ``ids``, counted by the database over the
+    primary key's patrol_id prefix."""
     counts: dict[int, tuple[int, int]] = {}
-    ids = [r.id for r in rows]
     for chunk in (ids[i:i + 500] for i in range(0, len(ids), 500)):
         agg = select(O.c.patrol_id, func.count(), func.sum(case((O.c.bug == True, 1), else_=0)))  # noqa: E712
         for pid, n, pests in conn.execute(agg.where(O.c.patrol_id.in_(chunk)).group_by(O.c.patrol_id)):
             counts[pid] = (n, int(pests or 0))
-    return [_patrol(r, *counts.get(r.id, (0, 0))) for r in rows]
+    return counts
+
+
+def pest_trend(conn: Connection, latest: Patrol, days: float = 28.0, points: int = 28) -> list[Patrol]:
+    """The count of pots with a pest, patrol by patrol, over the ``days`` up to ``latest`` in its
+    mission and greenhouse, oldest first: at most ``points`` patrols, evenly thinned (a year's
+    database has 4 a day; counting 28 patrols reads 28 patrols' rows by the primary key, not a
+    month's 112)."""
+    q = (select(P.c.id).where(P.c.mission == latest.mission, P.c.started_at <= latest.started_at,
+                              P.c.started_at >= latest.started_at - timedelta(days=days))
+         .order_by(P.c.started_at, P.c.id))
+    if (clause := in_greenhouse(latest.world)) is not None:
+        q = q.where(clause)
+    ids = list(conn.execute(q).scalars())
+    if len(ids) > points:  # evenly spaced, the latest kept
+        step = (len(ids) - 1) / (points - 1)
+        ids = [ids[round(k * step)] for k in range(points)]
+    chosen = {r.id: r for r in conn.execute(select(P).where(P.c.id.in_(ids))).all()}
+    counts = _row_counts(conn, ids)
+    return [_patrol(chosen[i], *counts.get(i, (0, 0))) for i in ids]
 
 
 def latest_mission(conn: Connection) -> str | None:

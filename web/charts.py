@@ -1,0 +1,103 @@
+"""The dashboard's pictures as SVG geometry, computed on the server: the greenhouse map, a pot's
+blooms and pests over time, the pest trend. The templates only write out what is computed here,
+so a page needs no chart library and nothing from the internet, and a chart is a few kB of text
+whatever the history's size.
+
+The map is drawn in metres (the map frame, y up turned to SVG's y down): the saved SLAM map of
+the latest patrol underneath when it is still beside its report, each pot a disc shaded by pest
+pressure on ``lupin history pests``' scale (green none, yellow half, red a pest every patrol;
+grey never judged), its latest result as a mark a reader tells without colour: a ring for a
+pest, a cross for failed, a dashed outline for skipped or not seen, a star and ``NEW`` for a new
+pest.
+"""
+from __future__ import annotations
+
+from datetime import datetime
+
+import numpy as np
+
+from mission.history.pest_map import nearest_spacing, pressure_colour
+from nav.occupancy import OccupancyMap
+
+MARGIN_M = 0.6
+POT_R_M = 0.15
+"""A pot's disc: 0.15 m, a greenhouse pot's radius, shrunk where pots stand closer."""
+CHART_W, CHART_H, PAD_L, PAD_R, PAD_T, PAD_B = 720, 220, 40, 12, 14, 34
+TREND_W, TREND_H = 360, 90
+
+
+def hex_colour(bgr: tuple[int, int, int]) -> str:
+    b, g, r = bgr
+    return f"#{r:02x}{g:02x}{b:02x}"
+
+
+def pressure_fill(pests: int, observed: int) -> str:
+    return "#9a9a9a" if not observed else hex_colour(pressure_colour(pests / observed))
+
+
+def greenhouse_map(pots: list[dict], occupancy: OccupancyMap | None) -> dict:
+    """``pots``: each with ``x``, ``y`` (m, or None), ``pests``, ``observed``; gets ``cx``, ``cy``,
+    ``fill`` added. The SVG's ``viewBox``, the disc radius and the background map's placement."""
+    placed = [p for p in pots if p.get("x") is not None and p.get("y") is not None]
+    xy = np.array([(p["x"], p["y"]) for p in placed], float).reshape(-1, 2)
+    r = float(min(POT_R_M, 0.42 * nearest_spacing(xy))) if len(xy) else POT_R_M
+    lo = xy.min(axis=0) - MARGIN_M if len(xy) else np.array([-1.0, -1.0])
+    hi = xy.max(axis=0) + MARGIN_M if len(xy) else np.array([1.0, 1.0])
+    background = None
+    if occupancy is not None:
+        w, h = occupancy.width * occupancy.resolution, occupancy.height * occupancy.resolution
+        background = {"x": round(occupancy.origin_x, 3), "y": round(-(occupancy.origin_y + h), 3),
+                      "width": round(w, 3), "height": round(h, 3)}
+        lo = np.minimum(lo, (occupancy.origin_x, occupancy.origin_y))
+        hi = np.maximum(hi, (occupancy.origin_x + w, occupancy.origin_y + h))
+    for p in placed:
+        p["cx"], p["cy"] = round(p["x"], 3), round(-p["y"], 3)
+    for p in pots:
+        p["fill"] = pressure_fill(p["pests"], p["observed"])
+    span = hi - lo
+    return {"viewbox": f"{lo[0]:.3f} {-hi[1]:.3f} {span[0]:.3f} {span[1]:.3f}", "r": round(r, 3),
+            "ring": round(r * 0.3, 3), "font": round(max(r * 1.6, span.max() / 60), 3),
+            "aspect": round(float(span[1] / span[0]), 4) if span[0] else 1.0, "background": background,
+            "placed": len(placed)}
+
+
+def _x_scale(times: list[datetime], width: float, pad_l: float, pad_r: float):
+    t0, t1 = times[0].timestamp(), times[-1].timestamp()
+    span = max(t1 - t0, 1.0)
+    return lambda t: round(pad_l + (t.timestamp() - t0) / span * (width - pad_l - pad_r), 1)
+
+
+def pot_chart(entries: list[dict]) -> dict | None:
+    """Blooms as a line and each pest as a red mark above it, over time; ``entries`` oldest first,
+    each with ``started_at`` (datetime), ``blooms`` (int or None) and ``bug`` (bool or None)."""
+    if not entries:
+        return None
+    times = [e["started_at"] for e in entries]
+    x = _x_scale(times, CHART_W, PAD_L, PAD_R)
+    top = max([e["blooms"] or 0 for e in entries] + [3])
+    base = CHART_H - PAD_B
+    y = lambda b: round(base - b / top * (base - PAD_T - 12), 1)  # noqa: E731
+    line = " ".join(f"{x(e['started_at'])},{y(e['blooms'])}" for e in entries if e["blooms"] is not None)
+    pests = [{"x": x(e["started_at"]), "when": e["when"]} for e in entries if e["bug"]]
+    failed = [{"x": x(e["started_at"]), "when": e["when"]} for e in entries if e["status"] != "inspected"]
+    ticks = [{"y": y(b), "label": str(b)} for b in range(0, top + 1, max(1, top // 4))]
+    k = np.linspace(0, len(times) - 1, min(len(times), 5)).round().astype(int)
+    dates = [{"x": x(times[i]), "label": times[i].strftime("%d %b")} for i in dict.fromkeys(k.tolist())]
+    return {"width": CHART_W, "height": CHART_H, "left": PAD_L, "right": CHART_W - PAD_R, "base": base,
+            "top": PAD_T, "line": line, "pests": pests, "failed": failed, "ticks": ticks, "dates": dates,
+            "pest_y": PAD_T - 2, "points": len(entries)}
+
+
+def trend_chart(points: list[dict]) -> dict | None:
+    """Pots with a pest, patrol by patrol (``points`` oldest first: ``started_at``, ``pests``)."""
+    if not points:
+        return None
+    x = _x_scale([p["started_at"] for p in points], TREND_W, 8, 8)
+    top = max(max(p["pests"] for p in points), 1)
+    base = TREND_H - 18
+    y = lambda v: round(base - v / top * (base - 8), 1)  # noqa: E731
+    return {"width": TREND_W, "height": TREND_H, "base": base, "top": top,
+            "line": " ".join(f"{x(p['started_at'])},{y(p['pests'])}" for p in points),
+            "last": {"x": x(points[-1]["started_at"]), "y": y(points[-1]["pests"])},
+            "from": points[0]["started_at"].strftime("%d %b"), "to": points[-1]["started_at"].strftime("%d %b"),
+            "right": TREND_W - 8}
