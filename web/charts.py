@@ -31,8 +31,12 @@ def hex_colour(bgr: tuple[int, int, int]) -> str:
     return f"#{r:02x}{g:02x}{b:02x}"
 
 
+FILLS = [hex_colour(pressure_colour(k / 100)) for k in range(101)]
+"""The pressure scale in 1 % steps (2,000 pots' colours are then a look-up each)."""
+
+
 def pressure_fill(pests: int, observed: int) -> str:
-    return "#9a9a9a" if not observed else hex_colour(pressure_colour(pests / observed))
+    return "#9a9a9a" if not observed else FILLS[round(100 * pests / observed)]
 
 
 def greenhouse_map(pots: list[dict], occupancy: OccupancyMap | None) -> dict:
@@ -56,7 +60,7 @@ def greenhouse_map(pots: list[dict], occupancy: OccupancyMap | None) -> dict:
         p["fill"] = pressure_fill(p["pests"], p["observed"])
     span = hi - lo
     return {"viewbox": f"{lo[0]:.3f} {-hi[1]:.3f} {span[0]:.3f} {span[1]:.3f}", "r": round(r, 3),
-            "ring": round(r * 0.3, 3), "font": round(max(r * 1.6, span.max() / 60), 3),
+            "ring": round(r * 0.3, 3), "font": round(r * 1.1, 3),
             "aspect": round(float(span[1] / span[0]), 4) if span[0] else 1.0, "background": background,
             "placed": len(placed)}
 

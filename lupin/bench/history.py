@@ -231,21 +231,43 @@ def _measure(url: str, size_mb: float | None) -> dict:
             "all_within_goal": bool(p95 <= 100), "_times": [t for v in warm["wall"].values() for t in v]}
 
 
+def sqlite_year(tmp: Path) -> tuple[Path, float | None]:
+    """The synthetic year in SQLite: at ``LUPIN_BENCH_HISTORY_YEAR`` (built there when missing,
+    reused when present), else built in ``tmp``; (its path, build seconds or None if reused)."""
+    path = Path(os.environ.get(YEAR_ENV) or Path(tmp) / "year.db")
+    build_s = None
+    if not path.exists():
+        h = open_history(str(path))
+        t0 = time.perf_counter()
+        build_year(h)
+        build_s = round(time.perf_counter() - t0, 1)
+        with h.engine.connect() as c:
+            c.exec_driver_sql("PRAGMA wal_checkpoint(TRUNCATE)")
+            c.exec_driver_sql("ANALYZE")
+        h.close()
+    return path, build_s
+
+
+def postgres_year(server) -> tuple[str, float, float]:
+    """The synthetic year in a new database on ``server`` (a ``PostgresServer``), vacuumed and
+    analysed: (its URL, build seconds, size in MB)."""
+    url = server.new_database()
+    h = open_history(url)
+    t0 = time.perf_counter()
+    build_year(h)
+    build_s = round(time.perf_counter() - t0, 1)
+    with h.engine.connect().execution_options(isolation_level="AUTOCOMMIT") as c:
+        c.exec_driver_sql("VACUUM ANALYZE")
+        size = c.exec_driver_sql("SELECT pg_database_size(current_database())").scalar() / 1e6
+    h.close()
+    return url, build_s, round(size, 1)
+
+
 @benchmark("history.query")
 def bench_query(config: LupinConfig) -> Sample:
     figures: dict = {"pots": POTS, "pests_last": PESTS_LAST, "goal_ms": 100}
     with tempfile.TemporaryDirectory() as tmp:
-        path = Path(os.environ.get(YEAR_ENV) or Path(tmp) / "year.db")
-        build_s = None
-        if not path.exists():
-            h = open_history(str(path))
-            t0 = time.perf_counter()
-            build_year(h)
-            build_s = round(time.perf_counter() - t0, 1)
-            with h.engine.connect() as c:
-                c.exec_driver_sql("PRAGMA wal_checkpoint(TRUNCATE)")
-                c.exec_driver_sql("ANALYZE")
-            h.close()
+        path, build_s = sqlite_year(Path(tmp))
         figures["sqlite"] = {**_measure(str(path), round(_db_mb(path), 1)), "build_s": build_s}
     times = figures["sqlite"].pop("_times")
     try:
@@ -256,16 +278,8 @@ def bench_query(config: LupinConfig) -> Sample:
         figures["postgresql"] = {"error": str(exc)}
     else:
         try:
-            url = server.new_database()
-            h = open_history(url)
-            t0 = time.perf_counter()
-            build_year(h)
-            build_s = round(time.perf_counter() - t0, 1)
-            with h.engine.connect().execution_options(isolation_level="AUTOCOMMIT") as c:
-                c.exec_driver_sql("VACUUM ANALYZE")
-                size = c.exec_driver_sql("SELECT pg_database_size(current_database())").scalar() / 1e6
-            h.close()
-            figures["postgresql"] = {**_measure(url, round(size, 1)), "build_s": build_s}
+            url, build_s, size = postgres_year(server)
+            figures["postgresql"] = {**_measure(url, size), "build_s": build_s}
             figures["postgresql"].pop("_times")
         finally:
             server.stop()

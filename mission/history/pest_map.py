@@ -82,15 +82,21 @@ def draw_pests(pests: PestMap, occupancy: OccupancyMap | None) -> np.ndarray:
     return _pad_stack([_title(pests, width), img, _scale(width)])
 
 
-def nearest_spacing(xy: np.ndarray, chunk: int = 512) -> float:
-    """The smallest distance between two pots, m (inf for fewer than two): discs never overlap."""
+def nearest_spacing(xy: np.ndarray) -> float:
+    """The smallest distance between two pots, m (inf for fewer than two): discs never overlap.
+
+    A sweep in x order: the k-th next pot in x is compared with each pot, k = 1, 2, ... until
+    every k-th next is farther in x alone than the best pair found (pots stand in rows, so a
+    few dozen steps of O(n) on 2,000 pots, where all pairs were 2 M distances and 0.13 s)."""
+    xy = np.asarray(xy, float).reshape(-1, 2)
     if len(xy) < 2:
         return float("inf")
+    p = xy[np.lexsort((xy[:, 1], xy[:, 0]))]
     best = np.inf
-    for i in range(0, len(xy), chunk):
-        d = np.hypot(*(xy[i:i + chunk, None, :] - xy[None, :, :]).transpose(2, 0, 1))
-        d[np.arange(d.shape[0]), np.arange(i, i + d.shape[0])] = np.inf
-        best = min(best, float(d.min()))
+    for k in range(1, len(p)):
+        if float((p[k:, 0] - p[:-k, 0]).min()) >= best:
+            break
+        best = min(best, float(np.hypot(*(p[k:] - p[:-k]).T).min()))
     return best
 
 
