@@ -22,6 +22,7 @@ from hw.errors import InputError
 from hw.interfaces import DeviceError
 from lupin import bench as bench_mod
 from lupin.cli.detect import detect
+from lupin.cli.fleet import fleet_app, router
 from lupin.cli.heal import heal
 from lupin.cli.history import history_app
 from lupin.cli.hw import hw_app
@@ -49,12 +50,14 @@ app.add_typer(map_app, name="map")
 app.add_typer(mission_app, name="mission")
 app.add_typer(history_app, name="history")
 app.add_typer(scenario_app, name="scenario")
+app.add_typer(fleet_app, name="fleet")
 app.command("detect")(detect)
 app.command("heal")(heal)
 app.command("patrol")(patrol)
 app.command("survey")(survey)
 app.command("serve")(serve)
 app.command("console")(console)
+app.command("router")(router)
 app.command("web")(web)
 
 

@@ -3,7 +3,10 @@
 ``--backend sim`` (the default unless the config's ``runtime.backend`` says ``hw``) runs the simulated greenhouse at wall-clock pace; ``--backend hw``
 the robot's devices. ``--listen ENDPOINT`` (default ``link.listen``) is where consoles connect;
 no multicast scouting. The operator token is ``link.token`` or, when that is empty, a random
-one printed at start-up. Ctrl-C or SIGTERM stops it cleanly (a running patrol is finished
+one printed at start-up. In a fleet, ``--robot NAME --connect ENDPOINT`` joins the fleet's
+router as a client instead (spec/fleet.md): keys under ``lupin/NAME/``, a liveliness token, and
+with ``--certs DIR`` (a ``tls/`` router) mutual TLS as NAME and no operator token: the router's
+access control lets only consoles command it. Ctrl-C or SIGTERM stops it cleanly (a running patrol is finished
 ``aborted``, its report written).
 """
 from __future__ import annotations
@@ -31,6 +34,11 @@ def serve(
     backend: Optional[Backend] = backend_option("sim (MuJoCo greenhouse, real time) or hw (the robot)"),
     world: Optional[Path] = typer.Option(None, "--world", help="World file for the sim (default: the built-in greenhouse)."),
     listen: Optional[str] = typer.Option(None, "--listen", help="Zenoh endpoint to listen on, e.g. tcp/0.0.0.0:7447 (default: link.listen)."),
+    robot: Optional[str] = typer.Option(None, "--robot", help="The robot's name in the fleet (default: link.robot)."),
+    connect: Optional[str] = typer.Option(None, "--connect", help="Join the fleet's router at this endpoint, e.g. "
+                                                                  "tls/192.168.1.2:7447, instead of listening."),
+    certs: Optional[Path] = typer.Option(None, "--certs", help="With a tls/ --connect: the fleet's certificates "
+                                                               "(lupin fleet certs -o DIR); this robot's are ROBOT.pem/.key."),
     runs: Path = typer.Option(DEFAULT_RUNS, "--runs", help="Each patrol's report goes to RUNS/<mission>-<k>/."),
     fast: bool = typer.Option(False, "--fast", help="Sim only: run as fast as the machine allows instead of real time."),
     foxglove: Optional[int] = typer.Option(None, "--foxglove", min=0, max=65535,
@@ -47,11 +55,21 @@ def serve(
     """Run the robot runtime as a service that consoles attach to."""
     from lupin.cli.patrol import open_patrol_history
     from mission.jobs.serve import run_service, start_hw_service
+    from lupin.cli.fleet import tls_for
     from mission.link.server import LinkServer, check_endpoint
 
     config = run_config(ctx)
+    if robot is not None:
+        from fleet.certs import check_name
+
+        config = with_overrides(config, {"link": {"robot": check_name(robot, "--robot")}})
     backend = resolve_backend(backend, config)
-    check_endpoint(listen or config.link.listen, "--listen")
+    if connect is not None and listen is not None:
+        raise InputError("lupin serve: give --listen (a robot alone) or --connect (a fleet's router), not both")
+    check_endpoint(connect or listen or config.link.listen, "--connect" if connect else "--listen")
+    if certs is not None and connect is None:
+        raise InputError("lupin serve: --certs goes with --connect tls/... (the fleet's router)")
+    tls = tls_for(certs, config.link.robot, connect) if connect is not None else None
     if backend is Backend.hw and (world is not None or fast):
         raise InputError("lupin serve --backend hw: --world and --fast are for the sim")
     if backend is Backend.sim and no_collision_monitor:
@@ -68,15 +86,16 @@ def serve(
 
         config = with_overrides(config, {"sim": {"realtime": not fast}})
         service = start_sim_service(world_file, config, runs, time.perf_counter, store)
-    token = config.link.token or secrets.token_urlsafe(12)
+    token = None if tls is not None else config.link.token or secrets.token_urlsafe(12)
     try:
-        server = LinkServer(service, config.link, token, listen)
+        server = LinkServer(service, config.link, token, listen, connect=connect, tls=tls)
     except BaseException:
         service.close()
         raise
     logging.getLogger().setLevel(min(logging.getLogger().level, logging.INFO))
-    print(f"lupin serve: robot {config.link.robot!r} on {server.endpoint}"
-          f"{'' if config.link.token else f'; operator token {token}'}", flush=True)
+    how = "through the router at" if connect else "on"
+    print(f"lupin serve: robot {config.link.robot!r} {how} {server.endpoint}"
+          f"{'' if config.link.token or token is None else f'; operator token {token}'}", flush=True)
     print(f"lupin serve: patrols recorded in {store.shown if store is not None else 'no history (--history none)'}",
           flush=True)
     on_close = server.close

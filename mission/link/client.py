@@ -4,7 +4,9 @@ A console (or a test, or a second console) opens one ``LinkClient`` on the runti
 Telemetry arrives on Zenoh's threads and is folded into the view under a lock; ``view()`` hands
 the UI a consistent copy-free snapshot reference. A topic it cannot read is dropped (and
 counted), never raised. ``send`` returns None when the runtime accepted a command, else the
-one-line reason it gave (or that nobody answered).
+one-line reason it gave (or that nobody answered). Several clients may share one session (a
+console watching a fleet opens one connection to the router, ``session=``), each following its
+robot's keys.
 """
 from __future__ import annotations
 
@@ -19,9 +21,9 @@ from typing import Callable
 import numpy as np
 import zenoh
 
-from mission.link.server import session_config
+from mission.link.session import TlsFiles, open_session, session_config
 from mission.link.view import GridView, PersonView, PotView, RobotView
-from mission.link.wire import Grid, apply_grid, cmd_key, dumps, tel_key
+from mission.link.wire import Grid, apply_grid, cmd_key, dumps, stop_key, tel_key
 
 STALE_S = 1.0
 """No telemetry for this long (on the console's clock) and the view says disconnected."""
@@ -29,12 +31,16 @@ LOG_LINES = 200
 
 
 class LinkClient:
-    def __init__(self, endpoint: str, robot: str, *, clock: Callable[[], float], token: str = "",
-                 timeout: float = 3.0):
+    def __init__(self, endpoint: str | None, robot: str, *, clock: Callable[[], float], token: str = "",
+                 timeout: float = 3.0, tls: TlsFiles | None = None, session: zenoh.Session | None = None):
         """``clock``: the console's seconds, which a link's staleness is measured on (a console
-        has no runtime clock of its own: the command line gives it the wall clock)."""
+        has no runtime clock of its own: the command line gives it the wall clock). ``session``:
+        an open one to share (then ``endpoint`` and ``tls`` are not used, and ``close`` leaves
+        it open)."""
         self.robot, self.token, self.timeout, self.clock = robot, token, timeout, clock
-        self.session = zenoh.open(session_config("connect", endpoint))
+        self._owns_session = session is None
+        self.session = session if session is not None else open_session(
+            session_config("connect", endpoint, tls), "connect", endpoint, "--connect")
         self._lock = threading.Lock()
         self._view = RobotView(robot=robot)
         self._grids: dict[str, Grid | None] = {"map": None, "costmap": None}
@@ -111,9 +117,9 @@ class LinkClient:
             return self._view
 
     # --- commands ------------------------------------------------------------------------------
-    def _query(self, name: str, args: dict) -> tuple[bytes | None, str | None]:
+    def _query(self, name: str, args: dict, key: str | None = None) -> tuple[bytes | None, str | None]:
         try:
-            replies = self.session.get(cmd_key(self.robot, name), payload=dumps({**args, "token": self.token}),
+            replies = self.session.get(key or cmd_key(self.robot, name), payload=dumps({**args, "token": self.token}),
                                        timeout=self.timeout)
             for reply in replies:
                 if reply.ok is not None:
@@ -128,6 +134,11 @@ class LinkClient:
 
     def send(self, command: str, /, **args) -> str | None:
         return self._query(command, args)[1]
+
+    def stop(self) -> str | None:
+        """Engage the robot's soft stop on its stop key, open to every member of a fleet (a
+        command, ``send("estop", engaged=True)``, is a console's only)."""
+        return self._query("stop", {}, stop_key(self.robot))[1]
 
     def snapshot(self, camera: str) -> bytes | None:
         data, error = self._query("snapshot", {"camera": camera})
@@ -146,4 +157,5 @@ class LinkClient:
 
     def close(self) -> None:
         self._sub.undeclare()
-        self.session.close()
+        if self._owns_session:
+            self.session.close()

@@ -8,55 +8,34 @@ exception, on purpose: engaging the soft e-stop is applied at once on the Zenoh 
 attribute write that the base controller reads on its next tick), so a stop does not also
 wait for the queue's beat. And one read: a ``history`` question is answered on the Zenoh thread
 from the database (``mission.history.answers``), never queued onto the robot's loop.
+
+The stop keys (``lupin/<robot>/stop`` and ``lupin/fleet/stop``, spec/fleet.md) engage the soft
+stop the same way, for anyone the router lets ask; releasing stays a command. The liveliness
+token ``lupin/<robot>/alive`` is held while the link is up, so consoles see the robot come and
+go (``mission.link.roster``).
 """
 from __future__ import annotations
 
 import logging
 import queue
-import re
-import socket
 import threading
 from dataclasses import dataclass, field
 
 import zenoh
 
-from hw.errors import InputError
 from mission.link.commands import CommandRefused, parse_command
 from mission.link.config import LinkConfig
 from mission.link.outbox import Outbox
+from mission.link.session import TlsFiles, check_endpoint, free_endpoint, open_session, session_config
 from mission.link.telemetry import LinkLogHandler, Telemetry
-from mission.link.wire import cmd_key, dumps
+from mission.link.wire import FLEET_STOP, alive_key, cmd_key, dumps, stop_key
+
+__all__ = ["LinkServer", "check_endpoint", "free_endpoint", "session_config"]  # the session's, kept importable here
 
 log = logging.getLogger("lupin.link")
 
 COMMAND_RATE = 20.0
 """How often the runtime takes queued commands, Hz: at most 50 ms added to an operator's action."""
-
-
-ENDPOINT = re.compile(r"^(tcp|udp|tls|quic|ws|unixsock-stream)/\S+$")
-
-
-def check_endpoint(endpoint: str, option: str) -> str:
-    """``proto/address`` as Zenoh spells it, e.g. ``tcp/127.0.0.1:7447``; InputError otherwise."""
-    if not ENDPOINT.match(endpoint):
-        raise InputError(f"{option} {endpoint}: not a Zenoh endpoint (expected e.g. tcp/127.0.0.1:7447)")
-    return endpoint
-
-
-def free_endpoint() -> str:
-    """A loopback TCP endpoint on a port free right now (a child service, a test, a bench)."""
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return f"tcp/127.0.0.1:{s.getsockname()[1]}"
-
-
-def session_config(mode: str, endpoint: str) -> zenoh.Config:
-    """An explicit Zenoh config: ``listen`` (peer) or ``connect`` (client), no multicast scouting."""
-    conf = zenoh.Config()
-    conf.insert_json5("mode", '"peer"' if mode == "listen" else '"client"')
-    conf.insert_json5(f"{mode}/endpoints", dumps([endpoint]).decode())
-    conf.insert_json5("scouting/multicast/enabled", "false")
-    return conf
 
 
 @dataclass
@@ -69,17 +48,22 @@ class _Pending:
 
 
 class LinkServer:
-    def __init__(self, service, config: LinkConfig, token: str, endpoint: str | None = None):
+    def __init__(self, service, config: LinkConfig, token: str | None, endpoint: str | None = None, *,
+                 connect: str | None = None, tls: TlsFiles | None = None):
+        """Listen on ``endpoint`` (a robot alone: consoles connect to it), or with ``connect``
+        join a fleet's router as a client (``tls``: this robot's certificate). ``token`` None:
+        no operator token; the router's access control alone says who commands (a fleet with
+        certificates, spec/fleet.md "Security")."""
         self.service, self.config, self.token = service, config, token
-        self.endpoint = check_endpoint(endpoint or config.listen, "--listen")
-        try:
-            self.session = zenoh.open(session_config("listen", self.endpoint))
-        except zenoh.ZError as exc:
-            raise InputError(f"--listen {self.endpoint}: cannot listen there: {exc}") from None
+        mode, option = ("connect", "--connect") if connect else ("listen", "--listen")
+        self.endpoint = check_endpoint(connect or endpoint or config.listen, option)
+        self.session = open_session(session_config(mode, self.endpoint, tls), mode, self.endpoint, option)
         self.outbox = Outbox(self.session.put, config.queue)
         self.telemetry = Telemetry(service, self.outbox, config.robot)
         self._inbox: queue.SimpleQueue[_Pending] = queue.SimpleQueue()
         self._queryable = self.session.declare_queryable(cmd_key(config.robot, "*"), self._on_query)
+        self._stops = [self.session.declare_queryable(k, self._on_stop) for k in (stop_key(config.robot), FLEET_STOP)]
+        self._alive = self.session.liveliness().declare_token(alive_key(config.robot))
         self._log = LinkLogHandler(self.outbox, config.robot, lambda: service.now)
         logging.getLogger().addHandler(self._log)
         sched = service.robot.scheduler
@@ -90,6 +74,11 @@ class LinkServer:
         self.commands_done = 0
 
     # --- Zenoh's threads -----------------------------------------------------------------------
+    def _on_stop(self, query: zenoh.Query) -> None:
+        """A stop key: engaged at once, for anyone the router lets ask (spec/fleet.md)."""
+        self.service.estop(True)
+        query.reply(query.key_expr, dumps({"ok": True, "robot": self.config.robot}))
+
     def _on_query(self, query: zenoh.Query) -> None:
         name = str(query.key_expr).rsplit("/", 1)[-1]
         payload = query.payload.to_bytes() if query.payload is not None else b""
@@ -140,5 +129,8 @@ class LinkServer:
             self.service.robot.scheduler.cancel(task)
         logging.getLogger().removeHandler(self._log)
         self._queryable.undeclare()
+        for q in self._stops:
+            q.undeclare()
+        self._alive.undeclare()
         self.outbox.close()
         self.session.close()

@@ -148,3 +148,6 @@ class RobotView:
     """The tracker's people as of ``t`` (empty when nobody is tracked or no tracker runs)."""
     log: list[str] = field(default_factory=list)
     connected: bool = False
+    fleet: list[str] = field(default_factory=list)
+    """The robots up on the router, in the order keys 1-9 pick them (``mission.link.fleet_link``);
+    empty on a robot's own link."""

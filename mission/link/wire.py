@@ -126,3 +126,20 @@ def apply_grid(current: Grid | None, data: bytes) -> Grid | None:
         current.data[y0:y0 + h, x0:x0 + w] = np.frombuffer(raw[at:at + w * h], np.int8).reshape(h, w)
         at += w * h
     return current
+
+
+FLEET_STOP = "lupin/fleet/stop"
+"""A query here engages every robot's soft stop (spec/fleet.md, "Names and keys")."""
+
+
+def stop_key(robot: str) -> str:
+    """A query here engages ``robot``'s soft stop: open to every member, unlike its commands."""
+    return f"lupin/{robot}/stop"
+
+
+def alive_key(robot: str) -> str:
+    """``robot``'s liveliness token: held while its link is up (who is up, within a second)."""
+    return f"lupin/{robot}/alive"
+
+
+ALIVE = "lupin/*/alive"

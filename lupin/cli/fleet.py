@@ -1,0 +1,95 @@
+"""`lupin fleet certs` and `lupin router`: a fleet's certificates and its Zenoh router (spec/fleet.md).
+
+``fleet certs`` makes the authority and one key and certificate per robot, console, the router
+and the dispatcher (``fleet.certs``). ``router`` runs zenoh's router mode with the fleet's TLS
+and access control (``fleet.router``) until Ctrl-C or SIGTERM; ``--no-tls`` (plain TCP, no
+access control: anyone on the network may command any robot) is for a bench on one machine
+and says so on every start.
+"""
+from __future__ import annotations
+
+import signal
+import sys
+import threading
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from hw.errors import InputError
+
+fleet_app = typer.Typer(help="A fleet of robots: certificates (and, next, a simulated fleet and a fleet patrol).",
+                        no_args_is_help=True)
+
+
+def _names(option: str, text: str) -> list[str]:
+    return [n.strip() for n in text.split(",") if n.strip()] if text else []
+
+
+@fleet_app.command("certs")
+def certs(
+    robots: str = typer.Option("", "--robots", help="Robot names, comma-separated, e.g. r1,r2,r3."),
+    consoles: str = typer.Option("", "--consoles", help="Console names, comma-separated, e.g. ops,laptop."),
+    out: Path = typer.Option(..., "-o", "--out", help="Directory for ca.pem and each NAME.pem / NAME.key."),
+    router_hosts: str = typer.Option("", "--router-hosts",
+                                     help="Names or addresses the router is reached by besides localhost and "
+                                          "127.0.0.1, comma-separated (its certificate must carry them)."),
+) -> None:
+    """Make the fleet's certificate authority and a key and certificate per member."""
+    from fleet.certs import make_fleet
+
+    names = make_fleet(out, _names("--robots", robots), _names("--consoles", consoles),
+                       router_hosts=tuple(_names("--router-hosts", router_hosts)))
+    print(f"lupin fleet certs: {out}/ca.pem and a key and certificate for {', '.join(names)} "
+          f"(keys owner-only; ca.key makes new members: keep it off the robots)")
+
+
+def tls_for(certs: Path | None, name: str, endpoint: str, option: str = "--certs"):
+    """``name``'s TLS files for ``endpoint``: required for ``tls/``, refused for plain ones."""
+    from fleet.certs import member_files
+
+    if endpoint.startswith("tls/"):
+        if certs is None:
+            raise InputError(f"{endpoint}: a tls/ endpoint needs the fleet's certificates ({option} DIR)")
+        return member_files(certs, name, option)
+    if certs is not None:
+        raise InputError(f"{option} {certs}: {endpoint} is not a tls/ endpoint (certificates go with tls/...)")
+    return None
+
+
+def router(
+    listen: Optional[str] = typer.Option(None, "--listen", help="Endpoint to listen on (default tls/0.0.0.0:7447)."),
+    certs: Optional[Path] = typer.Option(None, "--certs", help="The fleet's certificates (lupin fleet certs -o DIR)."),
+    no_tls: bool = typer.Option(False, "--no-tls", help="Plain TCP, no access control: a bench on one machine only."),
+) -> None:
+    """The fleet's Zenoh router: TLS with mutual authentication and access control by name."""
+    from fleet.members import read_members
+    from fleet.router import DEFAULT_LISTEN, open_router
+    from mission.link.session import check_endpoint
+
+    endpoint = check_endpoint(listen or (DEFAULT_LISTEN.replace("tls/", "tcp/") if no_tls else DEFAULT_LISTEN), "--listen")
+    if no_tls:
+        if endpoint.startswith("tls/") or certs is not None:
+            raise InputError("lupin router --no-tls: no --certs and no tls/ endpoint with it")
+        print("lupin router: WARNING --no-tls: plain TCP and NO access control; anyone who reaches "
+              f"{endpoint} can read and command every robot. A bench on one machine only.", file=sys.stderr, flush=True)
+        session = open_router(endpoint, None, None)
+    else:
+        if not endpoint.startswith("tls/"):
+            raise InputError(f"lupin router --listen {endpoint}: the router serves tls/ (or give --no-tls)")
+        if certs is None:
+            raise InputError("lupin router: give --certs DIR (lupin fleet certs -o DIR), or --no-tls for a bench")
+        members = read_members(certs)
+        session = open_router(endpoint, tls_for(certs, "router", endpoint), members)
+        print(f"lupin router: robots {', '.join(members.robots) or '(none)'}; consoles "
+              f"{', '.join(members.consoles) or '(none)'}", flush=True)
+    print(f"lupin router: listening on {endpoint}", flush=True)
+    stop = threading.Event()
+    previous = {s: signal.signal(s, lambda *_: stop.set()) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        stop.wait()
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+        session.close()
+    print("lupin router: stopped", flush=True)

@@ -1,0 +1,83 @@
+"""Opening a Zenoh session for the link: endpoints, modes, TLS files, no multicast scouting.
+
+A robot alone (``lupin serve``) listens as a peer and consoles connect straight to it, as
+before the fleet. In a fleet every member connects to the router as a client (spec/fleet.md,
+"The router"); over ``tls/`` endpoints each presents its own certificate and checks the
+router's against the fleet's authority (mutual TLS: ``TlsFiles``). Multicast scouting is off
+everywhere: the link goes where it is told, never to whoever answers on the farm's network.
+"""
+from __future__ import annotations
+
+import json
+import re
+import socket
+from dataclasses import dataclass
+from pathlib import Path
+
+import zenoh
+
+from hw.errors import InputError
+
+LEASE_MS = 1000
+"""A connection to the router (or a robot) silent this long is dead, and its liveliness token
+goes with it: spec/fleet.md's "within a second" for a robot that drops off the network, not just
+one whose process ends (a closed socket is seen at once). zenoh's default is 10 s; keep-alives go
+four times a lease (zenoh's ``keep_alive``), a few bytes each."""
+
+ENDPOINT = re.compile(r"^(tcp|udp|tls|quic|ws|unixsock-stream)/\S+$")
+
+
+@dataclass(frozen=True)
+class TlsFiles:
+    """One member's TLS files: the fleet authority's certificate, its own certificate and key
+    (``fleet.certs.member_files`` finds and checks them)."""
+
+    ca: Path
+    cert: Path
+    key: Path
+
+
+def check_endpoint(endpoint: str, option: str) -> str:
+    """``proto/address`` as Zenoh spells it, e.g. ``tcp/127.0.0.1:7447``; InputError otherwise."""
+    if not ENDPOINT.match(endpoint):
+        raise InputError(f"{option} {endpoint}: not a Zenoh endpoint (expected e.g. tcp/127.0.0.1:7447)")
+    return endpoint
+
+
+def free_endpoint(proto: str = "tcp") -> str:
+    """A loopback endpoint on a TCP port free right now (a child service, a test, a bench)."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return f"{proto}/127.0.0.1:{s.getsockname()[1]}"
+
+
+def tls_settings(tls: TlsFiles, side: str) -> dict:
+    """zenoh's ``transport.link.tls`` for one side (``listen`` or ``connect``): mutual TLS, the
+    fleet's authority the only one trusted."""
+    return {"root_ca_certificate": str(tls.ca), "enable_mtls": True,
+            f"{side}_private_key": str(tls.key), f"{side}_certificate": str(tls.cert)}
+
+
+def session_config(mode: str, endpoint: str, tls: TlsFiles | None = None, *, zenoh_mode: str | None = None) -> zenoh.Config:
+    """An explicit Zenoh config: ``listen`` (a peer, or ``zenoh_mode``) or ``connect`` (a
+    client), no multicast scouting; ``tls`` for a ``tls/`` endpoint."""
+    if tls is None and endpoint.startswith("tls/"):
+        raise InputError(f"{endpoint}: a tls/ endpoint needs the fleet's certificates (--certs DIR)")
+    conf = zenoh.Config()
+    conf.insert_json5("mode", json.dumps(zenoh_mode or ("peer" if mode == "listen" else "client")))
+    conf.insert_json5(f"{mode}/endpoints", json.dumps([endpoint]))
+    conf.insert_json5("scouting/multicast/enabled", "false")
+    if mode == "connect" or zenoh_mode == "router":
+        conf.insert_json5("transport/link/tx/lease", str(LEASE_MS))
+    if tls is not None:
+        conf.insert_json5("transport/link/tls", json.dumps(tls_settings(tls, mode)))
+    return conf
+
+
+def open_session(conf: zenoh.Config, mode: str, endpoint: str, option: str) -> zenoh.Session:
+    """``zenoh.open``, its failure one line naming the option and endpoint (InputError)."""
+    try:
+        return zenoh.open(conf)
+    except zenoh.ZError as exc:
+        doing = "cannot listen there" if mode == "listen" else "cannot connect (is the router up, and are the certificates the fleet's?)"
+        raise InputError(f"{option} {endpoint}: {doing}: {exc}") from None
