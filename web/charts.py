@@ -13,6 +13,7 @@ pest.
 from __future__ import annotations
 
 from datetime import datetime
+from urllib.parse import quote
 
 import numpy as np
 
@@ -24,6 +25,9 @@ POT_R_M = 0.15
 """A pot's disc: 0.15 m, a greenhouse pot's radius, shrunk where pots stand closer."""
 CHART_W, CHART_H, PAD_L, PAD_R, PAD_T, PAD_B = 720, 220, 40, 12, 14, 34
 TREND_W, TREND_H = 360, 90
+LABELLED = 60
+"""Up to this many pots each is named on the map; past that the names would be ink over ink
+(each pot still names itself on hover and links to its page)."""
 
 
 def hex_colour(bgr: tuple[int, int, int]) -> str:
@@ -40,9 +44,11 @@ def pressure_fill(pests: int, observed: int) -> str:
 
 
 def greenhouse_map(pots: list[dict], occupancy: OccupancyMap | None) -> dict:
-    """``pots``: each with ``x``, ``y`` (m, or None), ``pests``, ``observed``; gets ``cx``, ``cy``,
-    ``fill`` added. The SVG's ``viewBox``, the disc radius and the background map's placement."""
-    placed = [p for p in pots if p.get("x") is not None and p.get("y") is not None]
+    """``pots``: the greenhouse page's (``pot``, ``x``, ``y`` in m or None, ``result``,
+    ``new_pest``, ``pests``, ``observed``, ``streak``, ``flower``). The SVG's ``viewBox``, the
+    disc radius, the background map's placement and a ``mark`` per placed pot: where, its fill,
+    its classes and its tooltip, all computed here so the template only writes them out."""
+    placed = [p for p in pots if p["x"] is not None and p["y"] is not None]
     xy = np.array([(p["x"], p["y"]) for p in placed], float).reshape(-1, 2)
     r = float(min(POT_R_M, 0.42 * nearest_spacing(xy))) if len(xy) else POT_R_M
     lo = xy.min(axis=0) - MARGIN_M if len(xy) else np.array([-1.0, -1.0])
@@ -54,15 +60,20 @@ def greenhouse_map(pots: list[dict], occupancy: OccupancyMap | None) -> dict:
                       "width": round(w, 3), "height": round(h, 3)}
         lo = np.minimum(lo, (occupancy.origin_x, occupancy.origin_y))
         hi = np.maximum(hi, (occupancy.origin_x + w, occupancy.origin_y + h))
-    for p in placed:
-        p["cx"], p["cy"] = round(p["x"], 3), round(-p["y"], 3)
-    for p in pots:
-        p["fill"] = pressure_fill(p["pests"], p["observed"])
+    marks = [{"pot": p["pot"], "href": f"/pots/{quote(p['pot'], safe='')}", "cx": f"{p['x']:.3f}",
+              "cy": f"{-p['y']:.3f}", "fill": pressure_fill(p["pests"], p["observed"]),
+              "cls": f"pot r-{p['result'].replace(' ', '-')}{' new' if p['new_pest'] else ''}",
+              "result": p["result"], "new": p["new_pest"], "title": _tooltip(p)} for p in placed]
     span = hi - lo
     return {"viewbox": f"{lo[0]:.3f} {-hi[1]:.3f} {span[0]:.3f} {span[1]:.3f}", "r": round(r, 3),
-            "ring": round(r * 0.3, 3), "font": round(r * 1.1, 3),
-            "aspect": round(float(span[1] / span[0]), 4) if span[0] else 1.0, "background": background,
-            "placed": len(placed)}
+            "ring": round(r * 0.3, 3), "font": round(r * 1.1, 3), "background": background, "marks": marks,
+            "labelled": len(marks) <= LABELLED}
+
+
+def _tooltip(p: dict) -> str:
+    streak = f", {p['streak']} in a row" if p["streak"] else ""
+    return (f"{p['pot']}: {p['result']}{' (NEW pest)' if p['new_pest'] else ''}; pest {p['pests']}/{p['observed']} "
+            f"patrols{streak}; {p['flower']}")
 
 
 def _x_scale(times: list[datetime], width: float, pad_l: float, pad_r: float):

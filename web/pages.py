@@ -31,6 +31,9 @@ POT_TABLE, POT_PICTURES = 60, 8
 """A pot's page lists its newest 60 observations (all of them in its CSV and JSON) and the
 pictures of its newest 8 patrols, side by side."""
 PATROLS_PER_PAGE = 50
+LISTED = 200
+"""The greenhouse lists the pots to look at (new pests first, then pests by pressure, then
+failed pots) up to this many: the map has them all."""
 
 RESULTS = {"ok": "✓", "anomaly": "!", "pest": "✱", "failed": "✕", "skipped": "–", "not seen": "?"}
 """Each result's word and symbol: never colour alone (spec/web.md)."""
@@ -99,7 +102,8 @@ def greenhouse(conn: Connection, runs: Path | None, mission: str | None = None, 
     geometry = charts.greenhouse_map(pots, occupancy)
     return Page(data, {"map": geometry, "map_patrol": latest.id, "trend": charts.trend_chart(
         [{"started_at": t.started_at, "pests": t.pests} for t in trend]),
-        "listed": [p for p in pots if p["new_pest"] or p["result"] in ("pest", "failed")][:200]})
+        "listed": sorted((p for p in pots if p["new_pest"] or p["result"] in ("pest", "failed")),
+                         key=lambda p: (not p["new_pest"], p["result"] != "pest", -p["pressure"], p["pot"]))[:LISTED]})
 
 
 def pot(conn: Connection, pot_id: str, runs: Path | None, mission: str | None = None) -> Page | None:

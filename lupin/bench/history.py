@@ -32,6 +32,7 @@ import tempfile
 import time
 from datetime import datetime, timedelta, timezone
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
@@ -248,19 +249,29 @@ def sqlite_year(tmp: Path) -> tuple[Path, float | None]:
     return path, build_s
 
 
-def postgres_year(server) -> tuple[str, float, float]:
-    """The synthetic year in a new database on ``server`` (a ``PostgresServer``), vacuumed and
-    analysed: (its URL, build seconds, size in MB)."""
-    url = server.new_database()
-    h = open_history(url)
-    t0 = time.perf_counter()
-    build_year(h)
-    build_s = round(time.perf_counter() - t0, 1)
-    with h.engine.connect().execution_options(isolation_level="AUTOCOMMIT") as c:
-        c.exec_driver_sql("VACUUM ANALYZE")
-        size = c.exec_driver_sql("SELECT pg_database_size(current_database())").scalar() / 1e6
-    h.close()
-    return url, build_s, round(size, 1)
+def on_postgres_year(measure: Callable[[str], dict]) -> dict:
+    """``measure(url)`` on the synthetic year in PostgreSQL 15 (a throwaway server, the year
+    built, vacuumed and analysed), with ``build_s`` and ``db_mb``; ``{"error": why}`` when no
+    server can be started (a failure is a result)."""
+    try:
+        from lupin.bench.pg_server import PostgresServer
+
+        server = PostgresServer()
+    except Exception as exc:
+        return {"error": str(exc)}
+    try:
+        url = server.new_database()
+        h = open_history(url)
+        t0 = time.perf_counter()
+        build_year(h)
+        build_s = round(time.perf_counter() - t0, 1)
+        with h.engine.connect().execution_options(isolation_level="AUTOCOMMIT") as c:
+            c.exec_driver_sql("VACUUM ANALYZE")
+            size = c.exec_driver_sql("SELECT pg_database_size(current_database())").scalar() / 1e6
+        h.close()
+        return {**measure(url), "db_mb": round(size, 1), "build_s": build_s}
+    finally:
+        server.stop()
 
 
 @benchmark("history.query")
@@ -270,19 +281,8 @@ def bench_query(config: LupinConfig) -> Sample:
         path, build_s = sqlite_year(Path(tmp))
         figures["sqlite"] = {**_measure(str(path), round(_db_mb(path), 1)), "build_s": build_s}
     times = figures["sqlite"].pop("_times")
-    try:
-        from lupin.bench.pg_server import PostgresServer
-
-        server = PostgresServer()
-    except Exception as exc:  # a failure is a result
-        figures["postgresql"] = {"error": str(exc)}
-    else:
-        try:
-            url, build_s, size = postgres_year(server)
-            figures["postgresql"] = {**_measure(url, size), "build_s": build_s}
-            figures["postgresql"].pop("_times")
-        finally:
-            server.stop()
+    figures["postgresql"] = on_postgres_year(lambda url: _measure(url, None))
+    figures["postgresql"].pop("_times", None)
     figures["all_within_goal"] = all(f.get("all_within_goal", False) for f in
                                      (figures["sqlite"], figures["postgresql"]))
     figures["load_avg_1m"] = round(os.getloadavg()[0], 2)

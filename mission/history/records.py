@@ -112,7 +112,11 @@ class Observation:
         return self.status == "inspected"
 
     def as_json(self) -> dict:
-        return _json(self)
+        """``_json``'s answer, field by field (``asdict`` deep-copies: 20 us a row, and a
+        patrol's page or a pot's year is 2,000 rows)."""
+        out = {name: getattr(self, name) for name in self.COLUMNS}
+        out["observed_at"], out["anomalies"] = iso(self.observed_at), list(self.anomalies)
+        return out
 
 
 Observation.COLUMNS = tuple(f.name for f in fields(Observation))
