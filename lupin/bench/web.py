@@ -96,10 +96,10 @@ def server_times(url: str, n: int = REQUESTS) -> dict:
     times: dict[str, list[float]] = {p: [] for p in PAGES}
     errors = 0
     with serving(h) as base:
-        for page, path in _urls(pick, pots, patrol_ids, len(patrol_ids) // 50).items():
+        for page, path in _urls(pick, pots, patrol_ids, max(1, len(patrol_ids) // 50)).items():
             errors += _get(base + path)[1] != 200  # warm-up: templates compiled, caches filled
         for _ in range(n):
-            for page, path in _urls(pick, pots, patrol_ids, len(patrol_ids) // 50).items():
+            for page, path in _urls(pick, pots, patrol_ids, max(1, len(patrol_ids) // 50)).items():
                 ms, status = _get(base + path)
                 times[page].append(ms)
                 errors += status != 200
