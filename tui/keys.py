@@ -16,6 +16,11 @@ The view keys change only what the console shows, never the robot: ``+`` / ``-``
 the arrows drive), ``t`` follows the robot (``f`` is the front camera), ``0`` fits the map
 again, ``a`` shows only the pots with anomalies in the pot table, ``[`` / ``]`` select the
 previous / next pot in it, and ``i`` opens the selected pot's timeline (the patrol history).
+
+A fleet console (``lupin console --as NAME``, spec/fleet.md "The console") has one more line:
+``1``..``9`` pick the robot the panels show, ``E`` engages every robot's soft stop (``space``
+stops the robot shown; releasing is still ``u``, robot by robot), so the arm presets move to
+``F1``..``F6``.
 """
 from __future__ import annotations
 
@@ -84,3 +89,15 @@ VIEW_KEYS: list[Binding] = [
 BINDINGS: list[Binding] = ROBOT_KEYS + VIEW_KEYS
 KEY_SECTIONS = [ROBOT_KEYS, VIEW_KEYS]
 """The footer's lines."""
+
+_robot = Binding.Group("robot", compact=True)
+FLEET_KEYS: list[Binding] = [
+    *[Binding(str(i), f"robot({i - 1})", f"robot {i}", group=_robot) for i in range(1, 10)],
+    Binding("E", "stop_fleet", "FLEET E-STOP", priority=True),
+]
+"""A fleet console's own keys: which robot is shown, and the whole fleet's stop."""
+FLEET_ROBOT_KEYS: list[Binding] = [
+    b for b in ROBOT_KEYS if b.group is not _arm] + [
+    Binding(f"f{i + 1}", f"preset('{name}')", f"arm to {name}", group=_arm) for i, name in enumerate(ARM_PRESETS)]
+FLEET_BINDINGS: list[Binding] = FLEET_ROBOT_KEYS + VIEW_KEYS + FLEET_KEYS
+FLEET_KEY_SECTIONS = [FLEET_ROBOT_KEYS, VIEW_KEYS, FLEET_KEYS]

@@ -4,7 +4,9 @@
 process running the simulated greenhouse in real time, on a free loopback port, with a fresh
 token) and attaches to it: the one-command demo. Closing the console never stops the robot's
 mission; with ``--sim`` the child service is stopped with the console (SIGTERM: a running
-patrol is finished ``aborted``).
+patrol is finished ``aborted``). ``--as NAME`` makes it a fleet's console (spec/fleet.md): the
+endpoint is the fleet's router, ``--certs DIR`` holds NAME's certificate for a ``tls/`` one, and
+every robot that is up is listed, keys 1-9 switch between them, ``E`` stops them all.
 """
 from __future__ import annotations
 
@@ -30,6 +32,9 @@ def console(
     world: Optional[Path] = typer.Option(None, "--world", help="With --sim: the world file (default: the built-in greenhouse)."),
     connect: Optional[str] = typer.Option(None, "--connect", help="Endpoint of a running lupin serve, e.g. tcp/192.168.1.20:7447."),
     token: Optional[str] = typer.Option(None, "--token", help="Operator token (default: link.token, LUPIN_LINK__TOKEN)."),
+    certs: Optional[Path] = typer.Option(None, "--certs", help="With --as and a tls/ router: the fleet's certificates."),
+    as_name: Optional[str] = typer.Option(None, "--as", help="A fleet's console: this console's name in the fleet "
+                                                             "(its certificate's); --connect is then the router."),
 ) -> None:
     """The operator console."""
     from mission.link.client import LinkClient
@@ -41,6 +46,14 @@ def console(
         raise InputError("lupin console: give exactly one of --sim or --connect ENDPOINT")
     if world is not None and not sim:
         raise InputError("lupin console: --world goes with --sim")
+    if (certs is not None or as_name is not None) and connect is None:
+        raise InputError("lupin console: --as and --certs go with --connect (the fleet's router)")
+    if as_name is not None:
+        run_fleet_console(check_endpoint(connect, "--connect"), as_name, certs,
+                          token if token is not None else config.link.token)
+        return
+    if certs is not None:
+        raise InputError("lupin console --certs: say who this console is with --as NAME")
     child = None
     if sim:
         child, endpoint, token = start_child_service(world)
@@ -54,6 +67,20 @@ def console(
         client.close()
         if child is not None:
             stop_child(child)
+
+
+def run_fleet_console(endpoint: str, name: str, certs: Path | None, token: str) -> None:
+    from fleet.certs import check_name
+    from lupin.cli.fleet import tls_for
+    from mission.link.fleet_link import FleetLink
+    from tui.fleet_app import FleetConsoleApp
+
+    tls = tls_for(certs, check_name(name, "--as"), endpoint)
+    fleet = FleetLink(endpoint, clock=time.monotonic, tls=tls, token=token)
+    try:
+        FleetConsoleApp(fleet).run()
+    finally:
+        fleet.close()
 
 
 def start_child_service(world: Path | None) -> tuple[subprocess.Popen, str, str]:

@@ -83,3 +83,14 @@ def test_router_and_serve_bad_options_are_exit_2(capsys, args, words):
     assert main(args) == 2
     err = capsys.readouterr().err
     assert words in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--sim", "--as", "ops"], "go with --connect"),
+    (["--connect", "tls/127.0.0.1:1", "--certs", "x"], "--as NAME"),
+    (["--connect", "tls/127.0.0.1:1", "--as", "ops"], "needs the fleet's certificates"),
+])
+def test_fleet_console_bad_options_are_exit_2(capsys, args, words):
+    assert main(["console", *args]) == 2
+    err = capsys.readouterr().err
+    assert words in err and "Traceback" not in err

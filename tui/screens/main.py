@@ -21,8 +21,9 @@ CAMERA_HINT = "no snapshot yet: f = front camera, w = wrist camera"
 
 
 class MainScreen(Screen):
-    def __init__(self, camera_hint: str = CAMERA_HINT):
+    def __init__(self, camera_hint: str = CAMERA_HINT, key_sections=KEY_SECTIONS):
         super().__init__()
+        self.key_sections = key_sections
         self.status_bar, self.map_panel = StatusBar(id="status"), MapPanel(id="map")
         self.mission_tree, self.pots_table = MissionTree(id="tree"), PotsTable(id="pots")
         self.camera_panel = CameraPanel(camera_hint, id="camera")
@@ -38,7 +39,7 @@ class MainScreen(Screen):
         with Horizontal(id="bottom"):
             yield self.camera_panel
             yield self.log_panel
-        yield KeyBar(KEY_SECTIONS, id="keys")  # ctrl+p still opens the palette (its "keys" lists every binding)
+        yield KeyBar(self.key_sections, id="keys")  # ctrl+p still opens the palette (its "keys" lists every binding)
 
     def on_mount(self) -> None:
         for widget, title in ((self.mission_tree, "mission"), (self.camera_panel, "camera"), (self.log_panel, "log")):

@@ -14,8 +14,10 @@ ALARM = "bold white on red"
 
 
 def status_chips(v: RobotView) -> list[Text]:
-    chips = [Text(f" {v.robot or 'robot'} ", "bold reverse"),
-             Text("link ok", "green") if v.connected else Text(" NO LINK ", ALARM)]
+    chips = [Text(f" {v.robot or 'robot'} ", "bold reverse")]
+    if v.fleet:  # a fleet console: every robot up, by the key that shows it
+        chips.append(Text("  ".join(f"{i + 1} {r}" for i, r in enumerate(v.fleet[:9])), "bold"))
+    chips.append(Text("link ok", "green") if v.connected else Text(" NO LINK ", ALARM))
     if v.estop_engaged:
         chips.append(Text(" E-STOP ENGAGED (kept across a restart) " if v.estop_why else " E-STOP ENGAGED ", ALARM))
     elif v.estop_latched:
