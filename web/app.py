@@ -37,13 +37,12 @@ from starlette.templating import Jinja2Templates
 
 from mission.history import queries
 from mission.history.export import csv_lines
-from mission.history.pest_map import saved_map
 from mission.history.records import as_utc
 from mission.history.store import History, HistoryError, reason
 from nav.map_render import render_map
 from web import pages
 from web.auth import COOKIE, SESSION_S, Sessions
-from web.reports import SERVED, report_dir, served_file
+from web.reports import SERVED, report_dir, saved_occupancy, served_file
 
 HERE = Path(__file__).parent
 HEADERS = [(b"content-security-policy", b"default-src 'self'; img-src 'self' data:; frame-ancestors 'none'"),
@@ -194,8 +193,7 @@ def make_app(history: History, runs: Path | None, sessions: Sessions) -> Starlet
                             headers={"cache-control": "private, max-age=3600"})
 
     def patrol_map(request: Request) -> Response:
-        where = _directory(request.path_params["patrol_id"])
-        occupancy = saved_map(str(where / "report.json")) if where else None
+        occupancy = saved_occupancy(_directory(request.path_params["patrol_id"]))
         if occupancy is None:
             raise HTTPException(404, "no saved map beside that patrol's report")
         ok, png = cv2.imencode(".png", render_map(occupancy))

@@ -12,7 +12,7 @@ pest.
 """
 from __future__ import annotations
 
-from datetime import datetime
+from datetime import datetime, timedelta
 from urllib.parse import quote
 
 import numpy as np
@@ -97,10 +97,18 @@ def pot_chart(entries: list[dict]) -> dict | None:
     failed = [{"x": x(e["started_at"]), "when": e["when"]} for e in entries if e["status"] != "inspected"]
     ticks = [{"y": y(b), "label": str(b)} for b in range(0, top + 1, max(1, top // 4))]
     k = np.linspace(0, len(times) - 1, min(len(times), 5)).round().astype(int)
-    dates = [{"x": x(times[i]), "label": times[i].strftime("%d %b")} for i in dict.fromkeys(k.tolist())]
+    picked = list(dict.fromkeys(k.tolist()))
+    dates = [{"x": x(times[i]), "label": _day(times[i], times[-1] - times[0]),
+              "anchor": "start" if j == 0 else "end" if j == len(picked) - 1 else "middle"}
+             for j, i in enumerate(picked)]
     return {"width": CHART_W, "height": CHART_H, "left": PAD_L, "right": CHART_W - PAD_R, "base": base,
             "top": PAD_T, "line": line, "pests": pests, "failed": failed, "ticks": ticks, "dates": dates,
             "pest_y": PAD_T - 2, "points": len(entries)}
+
+
+def _day(t: datetime, span: timedelta) -> str:
+    """A date on an axis: the day, and the time too when the axis spans less than two days."""
+    return t.strftime("%d %b %H:%M" if span < timedelta(days=2) else "%d %b")
 
 
 def trend_chart(points: list[dict]) -> dict | None:
@@ -108,11 +116,12 @@ def trend_chart(points: list[dict]) -> dict | None:
     if not points:
         return None
     x = _x_scale([p["started_at"] for p in points], TREND_W, 8, 8)
+    span = points[-1]["started_at"] - points[0]["started_at"]
     top = max(max(p["pests"] for p in points), 1)
     base = TREND_H - 18
     y = lambda v: round(base - v / top * (base - 8), 1)  # noqa: E731
     return {"width": TREND_W, "height": TREND_H, "base": base, "top": top,
             "line": " ".join(f"{x(p['started_at'])},{y(p['pests'])}" for p in points),
             "last": {"x": x(points[-1]["started_at"]), "y": y(points[-1]["pests"])},
-            "from": points[0]["started_at"].strftime("%d %b"), "to": points[-1]["started_at"].strftime("%d %b"),
+            "from": _day(points[0]["started_at"], span), "to": _day(points[-1]["started_at"], span),
             "right": TREND_W - 8}

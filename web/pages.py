@@ -18,10 +18,9 @@ from sqlalchemy import Connection
 from mission.history import queries
 from mission.history.alerts import alerts as find_alerts
 from mission.history.changes import patrol_changes
-from mission.history.pest_map import saved_map
 from mission.history.records import Observation, Patrol, iso
 from web import charts
-from web.reports import read_report, read_text, report_dir, served_file
+from web.reports import read_report, read_text, report_dir, saved_occupancy, served_file
 
 PEST_LAST = 10
 """Patrols the greenhouse's pest pressure is counted over by default (``lupin history pests``)."""
@@ -97,9 +96,7 @@ def greenhouse(conn: Connection, runs: Path | None, mission: str | None = None, 
                 pressure_patrols=len(pressure.patrols),
                 trend=[{"patrol": t.id, "started_at": iso(t.started_at), "pests": t.pests} for t in trend],
                 alerts=len(find_alerts(now, prior)))
-    where = report_dir(latest.report_path, runs)
-    occupancy = saved_map(str(where / "report.json")) if where else None
-    geometry = charts.greenhouse_map(pots, occupancy)
+    geometry = charts.greenhouse_map(pots, saved_occupancy(report_dir(latest.report_path, runs)))
     return Page(data, {"map": geometry, "map_patrol": latest.id, "trend": charts.trend_chart(
         [{"started_at": t.started_at, "pests": t.pests} for t in trend]),
         "listed": sorted((p for p in pots if p["new_pest"] or p["result"] in ("pest", "failed")),

@@ -59,3 +59,12 @@ def read_text(directory: Path | None, name: str, limit: int = 200_000) -> str | 
         return path.read_text(errors="replace")[:limit]
     except OSError:
         return None
+
+
+def saved_occupancy(directory: Path | None):
+    """The SLAM map saved beside the report, cropped to what was explored (with a margin), or
+    None: the greenhouse map's background and ``/patrols/<id>/map.png``, so both place it alike."""
+    from mission.history.pest_map import saved_map
+
+    m = saved_map(str(directory / "report.json")) if directory is not None else None
+    return None if m is None else m.cropped(margin=4)

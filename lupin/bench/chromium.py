@@ -47,7 +47,8 @@ def find_chromium() -> str:
 class Chromium:
     """One headless browser with one page (a tab). Use as a context manager."""
 
-    def __init__(self, width: int = 1280, height: int = 900, timeout: float = 30.0):
+    def __init__(self, width: int = 1280, height: int = 900, timeout: float = 30.0, mobile: bool = False):
+        """``mobile``: a phone's screen (the page's viewport meta applies, as on a phone)."""
         from websockets.sync.client import connect
 
         self.timeout = timeout
@@ -68,7 +69,7 @@ class Chromium:
             for domain in ("Page", "Network", "Runtime"):
                 self.call(f"{domain}.enable")
             self.call("Emulation.setDeviceMetricsOverride", width=width, height=height, deviceScaleFactor=1,
-                      mobile=False)
+                      mobile=mobile)
         except BaseException:
             self.close()
             raise
