@@ -17,7 +17,7 @@ import pytest
 from starlette.testclient import TestClient
 
 from mission.history.store import History, open_history
-from tests.history.conftest import T0, add_patrol, obs
+from tests.history.conftest import T0, add_patrol, obs, pg_url, postgres  # noqa: F401 (fixtures)
 from web.app import make_app
 from web.auth import Sessions, hash_password
 

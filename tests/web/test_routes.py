@@ -103,3 +103,49 @@ def test_a_password_is_asked_and_a_wrong_one_refused(locked):
     assert locked.get("/api/greenhouse").status_code == 200
     locked.post("/logout")
     assert locked.get("/api/greenhouse").status_code == 401
+
+
+def test_reports_moved_elsewhere_are_found_under_runs(history, tmp_path):
+    from starlette.testclient import TestClient
+
+    from web.app import make_app
+    from web.auth import Sessions
+
+    (tmp_path / "runs").rename(tmp_path / "farm")
+    lost = TestClient(make_app(history, None, Sessions(None)))
+    assert lost.get("/api/patrols/2").json()["run_png"] is None
+    assert {(s["wrist"], s["front"]) for s in lost.get("/api/pots/P01").json()["pictures"]} == {(None, None)}
+    found = TestClient(make_app(history, tmp_path / "farm", Sessions(None)))
+    assert found.get("/api/patrols/2").json()["run_png"] == "/patrols/2/files/run.png"
+    assert found.get("/patrols/1/files/P01_wrist.jpg").status_code == 200
+
+
+def test_a_history_that_does_not_answer_is_a_503_page_saying_why(client, history):
+    history.outage_until(1e9, lambda: 0.0)
+    r = client.get("/")
+    assert r.status_code == 503 and "does not answer" in r.text and "Traceback" not in r.text
+    assert client.get("/api/alerts").status_code == 503
+
+
+def test_postgresql_answers_every_page_as_sqlite_does(client, pg_url, tmp_path):
+    from starlette.testclient import TestClient
+
+    from mission.history.store import open_history
+    from tests.web.conftest import write_two_patrols
+    from web.app import make_app
+    from web.auth import Sessions
+
+    pg = open_history(pg_url)
+    write_two_patrols(pg, tmp_path / "pg-runs")
+    on_pg = TestClient(make_app(pg, None, Sessions(None)))
+    for url in ("/api/greenhouse", "/api/pots/P01", "/api/patrols", "/api/patrols/2", "/api/alerts"):
+        assert _same(client.get(url).json(), on_pg.get(url).json()), url
+    pg.close()
+
+
+def _same(a, b) -> bool:
+    """Equal but for where the two histories' report files are."""
+    import json
+
+    return json.dumps(a, sort_keys=True).replace("/runs/", "/X/") == json.dumps(b, sort_keys=True).replace(
+        "/pg-runs/", "/X/")
