@@ -22,10 +22,11 @@ class LiveServer:
     """A started WebSocket server fed by ``channels``; ``stop()`` ends both (idempotent)."""
 
     def __init__(self, parts: Parts, port: int = DEFAULT_PORT, host: str = "127.0.0.1",
-                 channels: PatrolChannels | None = None, name: str = "lupin"):
+                 channels: PatrolChannels | None = None, name: str | None = None):
         self.channels = channels or PatrolChannels.of(parts)
         self._own = channels is None
         """Shared channels (a recording's) are their owner's to stop; ours end with the server."""
+        name = name or f"lupin {parts.robot.config.link.robot}"  # Foxglove names the robot it shows
         self.server = foxglove.start_server(name=name, host=host, port=port, capabilities=[Capability.Time],
                                             context=self.channels.context)
         self.scheduler = parts.robot.scheduler

@@ -39,6 +39,7 @@ class McapRecording:
                                              writer_options=options)
         except OSError as exc:
             raise InputError(f"{self.path}: cannot write the recording: {exc.strerror or exc}") from None
+        self.writer.write_metadata("lupin", {"robot": parts.robot.config.link.robot})  # whose, in a fleet's files
         self.channels.start()
         self._open = True
 

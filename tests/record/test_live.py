@@ -46,6 +46,7 @@ def test_a_client_sees_the_channels_and_sim_time_messages(tmp_path):
                 msg = json.loads(ws.recv(timeout=10))
                 if msg["op"] == "serverInfo":
                     assert "time" in msg["capabilities"]
+                    assert msg["name"] == f"lupin {parts.robot.config.link.robot}"  # whose, in a fleet
                 elif msg["op"] == "advertise":
                     channels.update({c["topic"]: c for c in msg["channels"]})
             assert channels["/tf"]["schemaName"] == "foxglove.FrameTransforms"

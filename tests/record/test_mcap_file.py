@@ -71,6 +71,15 @@ def test_every_channel_is_recorded_with_the_schema_foxglove_expects(recorded):
 
 
 @pytest.mark.slow
+def test_the_recording_names_its_robot(recorded):
+    from mcap.reader import make_reader
+
+    with open(recorded.path, "rb") as f:
+        metadata = {m.name: m.metadata for m in make_reader(f).iter_metadata()}
+    assert metadata["lupin"] == {"robot": recorded.run.robot.config.link.robot}
+
+
+@pytest.mark.slow
 def test_message_counts_follow_the_rates_over_the_robot_time(recorded):
     d, n = recorded.duration, recorded.rec.counts
     assert 20 < d < 60  # two pots and home: the expectations below scale with it
