@@ -41,13 +41,14 @@ STOP_WITHIN_S = 2.0
 
 
 @contextmanager
-def live_runtime(config: LupinConfig):
-    """A real-time sim service and its link server on a thread of their own."""
+def live_runtime(config: LupinConfig, token: str | None = TOKEN, **fleet):
+    """A real-time sim service and its link server on a thread of their own; ``fleet``
+    (``connect=``, ``tls=``): its link joins that router instead of listening."""
     config = with_overrides(config, {"sim": {"realtime": True}})
     with tempfile.TemporaryDirectory() as runs:
         service = start_sim_service(load_default_world(), config, Path(runs), time.perf_counter)
-        endpoint = free_endpoint()
-        server = LinkServer(service, config.link, TOKEN, endpoint)
+        endpoint = fleet.get("connect") or free_endpoint()
+        server = LinkServer(service, config.link, token, None if fleet else endpoint, **fleet)
         stop = threading.Event()
         thread = threading.Thread(target=run_service, args=(service, stop, server.close), daemon=True)
         thread.start()
