@@ -22,6 +22,7 @@ might ask of another host.
 """
 from __future__ import annotations
 
+from datetime import datetime
 from pathlib import Path
 from urllib.parse import parse_qs, quote
 
@@ -55,8 +56,6 @@ def _when(text: str | None) -> str:
     """An ISO time as a grower reads it (UTC)."""
     if not text:
         return "-"
-    from datetime import datetime
-
     return as_utc(datetime.fromisoformat(text.replace("Z", "+00:00"))).strftime("%Y-%m-%d %H:%M")
 
 
@@ -196,7 +195,7 @@ def make_app(history: History, runs: Path | None, sessions: Sessions) -> Starlet
         occupancy = saved_occupancy(_directory(request.path_params["patrol_id"]))
         if occupancy is None:
             raise HTTPException(404, "no saved map beside that patrol's report")
-        ok, png = cv2.imencode(".png", render_map(occupancy))
+        png = cv2.imencode(".png", render_map(occupancy))[1]
         return Response(png.tobytes(), media_type="image/png", headers={"cache-control": "private, max-age=3600"})
 
     async def login(request: Request) -> Response:
