@@ -33,7 +33,7 @@ import numpy as np
 
 from fleet.certs import make_fleet, member_files
 from lupin.bench import Sample, benchmark
-from lupin.bench.link import ESTOP_TRIALS, STOP_WITHIN_S, TOKEN, _stderr, _wait, live_runtime, press_trials
+from lupin.bench.link import TOKEN, _stderr, _wait, console_presses, live_runtime
 from lupin.cli.console import stop_child
 from mission.link.client import LinkClient
 from mission.link.roster import Roster
@@ -98,43 +98,9 @@ def fleet_run(config: LupinConfig, how: str, certs: Path, tmp: Path):
 
 
 def _estop_trials(service, endpoint: str, tls, config: LupinConfig):
-    stopped: list[float] = []
-    armed = [False]
-
-    def on_duties(t: float, duties: np.ndarray) -> None:
-        if armed[0] and not duties.any():
-            stopped.append(time.perf_counter())
-            armed[0] = False
-
-    service.robot.hal.wheels.listeners.append(on_duties)
     console = LinkClient(endpoint, "r1", clock=time.monotonic, token=TOKEN, tls=tls)
-    rng = np.random.default_rng(0)
-
-    def drive() -> bool:
-        end = time.perf_counter() + 0.5
-        while time.perf_counter() < end:
-            console.send("teleop", vx=0.0, vy=0.0, wz=0.4)
-            time.sleep(0.05)
-        return bool(service.robot.base.last_duties.any())
-
-    def press() -> float | None:
-        time.sleep(rng.uniform(0.0, 1.0 / config.hw.base.control_rate))
-        stopped.clear()
-        armed[0] = True
-        t0 = time.perf_counter()
-        console.send("estop", engaged=True)
-        ok = _wait(lambda: bool(stopped), STOP_WITHIN_S)
-        armed[0] = False
-        return (stopped[0] - t0) * 1000.0 if ok else None
-
-    def release() -> None:
-        console.send("estop", engaged=False)
-        time.sleep(0.3)
-
     try:
-        if not _wait(lambda: console.view().connected, 20):
-            _stderr("fleet.link: the console did not see r1 within 20 s; every press will be tried anyway")
-        return press_trials(ESTOP_TRIALS, drive, press, release, _stderr)
+        return console_presses(service, console, config, "fleet.link")
     finally:
         console.close()
 

@@ -97,7 +97,7 @@ def press_trials(trials: int, drive: Callable[[], bool], press: Callable[[], flo
     for i in range(trials):
         if not drive():
             tally.not_driving += 1
-            warn(f"link.estop: trial {i + 1}: the wheels were not turning when the press was due; no press")
+            warn(f"trial {i + 1}: the wheels were not turning when the press was due; no press")
             continue
         tally.attempted += 1
         try:
@@ -107,7 +107,7 @@ def press_trials(trials: int, drive: Callable[[], bool], press: Callable[[], flo
         if ms is None:
             msg = f"trial {i + 1}: the wheels did not stop within {STOP_WITHIN_S:g} s of the press"
             tally.failures.append(msg)
-            warn(f"link.estop: FAILED {msg}")
+            warn(f"FAILED {msg}")
         else:
             tally.times_ms.append(ms)
     return tally
@@ -149,46 +149,52 @@ class NullLink:
         return None
 
 
+def console_presses(service, console: LinkClient, config: LupinConfig, name: str) -> PressTally:
+    """``ESTOP_TRIALS`` trials of ``console``'s soft e-stop on ``service``'s robot, timed to
+    all-zero wheel duty at the simulated motors (``press_trials``); ``name`` labels what is told."""
+    stopped: list[float] = []
+    armed = threading.Event()
+
+    def on_duties(t: float, duties: np.ndarray) -> None:
+        if armed.is_set() and not duties.any():
+            stopped.append(time.perf_counter())
+            armed.clear()
+
+    service.robot.hal.wheels.listeners.append(on_duties)
+    rng = np.random.default_rng(0)
+
+    def drive() -> bool:
+        end = time.perf_counter() + 0.5
+        while time.perf_counter() < end:
+            console.send("teleop", vx=0.0, vy=0.0, wz=0.4)
+            time.sleep(0.05)
+        return bool(service.robot.base.last_duties.any())
+
+    def press() -> float | None:
+        time.sleep(rng.uniform(0.0, 1.0 / config.hw.base.control_rate))  # any phase of the control beat
+        stopped.clear()
+        armed.set()
+        t0 = time.perf_counter()
+        console.send("estop", engaged=True)
+        ok = _wait(lambda: bool(stopped), STOP_WITHIN_S)
+        armed.clear()
+        return (stopped[0] - t0) * 1000.0 if ok else None
+
+    def release() -> None:
+        console.send("estop", engaged=False)
+        time.sleep(0.3)
+
+    if not _wait(lambda: console.view().connected, 10):
+        _stderr(f"{name}: the console did not connect within 10 s; every press will be tried anyway")
+    return press_trials(ESTOP_TRIALS, drive, press, release, lambda msg: _stderr(f"{name}: {msg}"))
+
+
 @benchmark("link.estop")
 def estop(config: LupinConfig) -> Sample:
     with live_runtime(config) as (service, server, endpoint):
-        stopped: list[float] = []
-        armed = threading.Event()
-
-        def on_duties(t: float, duties: np.ndarray) -> None:
-            if armed.is_set() and not duties.any():
-                stopped.append(time.perf_counter())
-                armed.clear()
-
-        service.robot.hal.wheels.listeners.append(on_duties)
         console = LinkClient(endpoint, config.link.robot, clock=time.monotonic, token=TOKEN)
-        rng = np.random.default_rng(0)
-
-        def drive() -> bool:
-            end = time.perf_counter() + 0.5
-            while time.perf_counter() < end:
-                console.send("teleop", vx=0.0, vy=0.0, wz=0.4)
-                time.sleep(0.05)
-            return bool(service.robot.base.last_duties.any())
-
-        def press() -> float | None:
-            time.sleep(rng.uniform(0.0, 1.0 / config.hw.base.control_rate))  # any phase of the control beat
-            stopped.clear()
-            armed.set()
-            t0 = time.perf_counter()
-            console.send("estop", engaged=True)
-            ok = _wait(lambda: bool(stopped), STOP_WITHIN_S)
-            armed.clear()
-            return (stopped[0] - t0) * 1000.0 if ok else None
-
-        def release() -> None:
-            console.send("estop", engaged=False)
-            time.sleep(0.3)
-
         try:
-            if not _wait(lambda: console.view().connected, 10):
-                _stderr("link.estop: the console did not connect within 10 s; every press will be tried anyway")
-            tally = press_trials(ESTOP_TRIALS, drive, press, release, _stderr)
+            tally = console_presses(service, console, config, "link.estop")
         finally:
             console.close()
     return Sample(tally.times_ms, tally.figures())

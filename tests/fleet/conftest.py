@@ -4,7 +4,6 @@ connect to it under any member's certificate, as a robot, a console or an intrud
 from __future__ import annotations
 
 import json
-import time
 from pathlib import Path
 
 import pytest
@@ -15,17 +14,9 @@ from fleet.members import read_members
 from fleet.router import open_router
 from lupin.cli import main
 from mission.link.session import free_endpoint, session_config
+from tests.link.sim_service import wait_for  # noqa: F401  (the fleet's tests wait the same way)
 
 ROBOTS, CONSOLES = ["r1", "r2", "r3"], ["ops"]
-
-
-def wait_for(cond, timeout=5.0):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if cond():
-            return True
-        time.sleep(0.01)
-    return False
 
 
 @pytest.fixture(scope="session")
