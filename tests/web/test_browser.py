@@ -100,6 +100,8 @@ def test_a_grower_follows_a_new_pest_from_the_greenhouse_to_its_pot_alerts_and_c
         assert "★ NEW" in b.eval("document.querySelector('#pot-P04').textContent")
         assert not b.eval("document.querySelector('#pot-P03').classList.contains('new')")
         assert "P04 ★ NEW" in b.eval("document.querySelector('table.rows').innerText")
+        assert b.eval("document.querySelector('svg.greenhouse image').getAttribute('href')") == "/patrols/2/map.png"
+        assert status_of(b, base + "/patrols/2/map.png") == 200  # the SLAM map saved beside the report
 
         # follow it to its page: both patrols' pictures, loaded, and the chart
         b.click("#pot-P04 circle")
@@ -127,3 +129,22 @@ def test_a_grower_follows_a_new_pest_from_the_greenhouse_to_its_pot_alerts_and_c
         asked = b.requested()
         assert len(asked) > 8 and all(u.startswith(base + "/") for u in asked), \
             [u for u in asked if not u.startswith(base + "/")]
+
+
+def sign_in(b: Chromium, base: str) -> None:
+    b.goto(base + "/")
+    b.type_into("#password", PASSWORD)
+    b.click("form.login button")
+
+
+def test_the_pages_fit_a_phones_screen(dashboard):
+    base, _ = dashboard
+    with Chromium(width=390, height=800, mobile=True) as b:
+        sign_in(b, base)
+        for path in ("/", "/pots/P04", "/patrols", "/patrols/2", "/alerts"):
+            b.goto(base + path)
+            assert b.eval("document.documentElement.scrollWidth") <= 390, path
+            if path.startswith("/pots/"):  # a patrol's two pictures side by side, even on a phone
+                left, right = b.eval("[...document.querySelector('.pair').children].map("
+                                     "e => e.getBoundingClientRect().top)")
+                assert left == right
