@@ -15,7 +15,7 @@ from typing import Callable
 from mission.link.client import LinkClient
 from mission.link.roster import Roster, stop_fleet
 from mission.link.session import TlsFiles, open_session, session_config
-from mission.link.view import RobotView
+from mission.link.view import OtherRobot, RobotView
 
 NONE_UP = "no robot is up on the router"
 
@@ -68,6 +68,10 @@ class FleetLink:
         c = self._current()
         v = c.view() if c is not None else RobotView(robot="")
         v.fleet = robots
+        v.others = []
+        for r in robots:
+            if r != self.shown and (o := self.client(r).view()).connected:
+                v.others.append(OtherRobot(r, o.pose, o.plan))
         return v
 
     # --- Commands ------------------------------------------------------------------------------

@@ -100,6 +100,16 @@ class GridView:
 
 
 @dataclass
+class OtherRobot:
+    """Another robot of the fleet as the console shows it beside the robot it follows: where it
+    is and where it is going, in the map frame the fleet shares (spec/fleet.md)."""
+
+    robot: str
+    pose: tuple[float, float, float]
+    plan: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+
+
+@dataclass
 class RobotView:
     robot: str = ""
     t: float = 0.0
@@ -151,3 +161,5 @@ class RobotView:
     fleet: list[str] = field(default_factory=list)
     """The robots up on the router, in the order keys 1-9 pick them (``mission.link.fleet_link``);
     empty on a robot's own link."""
+    others: list[OtherRobot] = field(default_factory=list)
+    """Every other robot up whose telemetry is fresh (the fleet view: all of them on one map)."""

@@ -61,6 +61,7 @@ def test_a_console_commands_each_robot_and_a_robot_stops_another_but_cannot_rele
         assert wait_for(lambda: console.robots() == ["r1", "r2"], 10)
         assert console.view().robot == "r1" and console.view().fleet == ["r1", "r2"]
         assert wait_for(lambda: all(_views(console, r).connected for r in ("r1", "r2")), 20)
+        assert wait_for(lambda: [o.robot for o in console.view().others] == ["r2"], 5)  # the fleet view
         assert console.send("teleop", wz=0.3) is None  # r1, shown first
         assert wait_for(lambda: _views(console, "r1").mux_source == "manual", 5)
         assert _views(console, "r2").mux_source != "manual"

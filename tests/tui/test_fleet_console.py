@@ -57,3 +57,20 @@ def test_keys_pick_the_robot_send_it_commands_and_capital_e_stops_the_fleet(rout
         fleet.close()
         for s in robots:
             s.close()
+
+
+def test_the_fleet_view_draws_every_other_robot_and_its_plan_in_its_colour():
+    import numpy as np
+
+    from mission.link.view import OtherRobot
+    from tests.tui.test_map import colour, tiny_view
+    from tui.widgets.map_panel import FLEET, ROBOT, map_pixels
+
+    v = tiny_view()
+    v.fleet = ["r1", "r2", "r3"]
+    v.others = [OtherRobot("r3", (1.6, 0.2, 0.0), np.array([[1.6, 0.2], [1.6, 0.9]])), OtherRobot("r2", (3.0, 0.5, 0.0))]
+    cv = map_pixels(v, 60, 20)
+    assert colour(cv, 0.4 - 0.1, 0.5 + 0.1) == ROBOT  # the robot shown, as ever
+    assert colour(cv, 1.6 - 0.1, 0.2 + 0.1) == FLEET[2]  # r3's footprint, r3's colour
+    assert colour(cv, 1.6, 0.75) == FLEET[2]  # and its plan
+    assert colour(cv, 3.0 - 0.1, 0.5 + 0.1) == FLEET[1]  # r2, outside the room: the window still fits it

@@ -1,6 +1,7 @@
 """The map panel: occupancy, inflated-cost shading, the scan, the plan and goal, the pots by
 status, the people the robot tracks and the robot with its heading, in half-block characters
-(two square pixels each).
+(two square pixels each). On a fleet console the other robots are drawn too, each with its plan,
+in a colour of its own (``FLEET``): the fleet view.
 
 :func:`render_map` is pure (view in, one ``Strip`` per character row out), so it is measured
 and tested without a terminal. The picture is one RGB array built with numpy:
@@ -48,6 +49,9 @@ STRIDE_S = 1.0
 long as the robot's heading line is 0.35 m, and standing (under ``STILL``) draws none."""
 STILL = 0.1
 """m/s below which a track is drawn without a tick (the tracker's filter never reads exactly 0)."""
+FLEET = [(255, 140, 40), (120, 230, 200), (200, 200, 90), (150, 170, 255), (255, 120, 120),
+         (180, 255, 120), (230, 160, 230), (140, 200, 140)]
+"""The other robots of a fleet, by their place in the fleet's list (the shown one is ``ROBOT``)."""
 MARGIN = 0.5
 """Metres around what is drawn."""
 ROBOT_HALF, NOSE = 0.15, 0.35
@@ -98,6 +102,8 @@ def _bounds(view: RobotView) -> tuple[float, float, float, float]:
     if view.goal is not None:
         xs.append(view.goal[0])
         ys.append(view.goal[1])
+    xs += [o.pose[0] for o in view.others]
+    ys += [o.pose[1] for o in view.others]
     if len(xs) == 1:  # nothing but the robot: 4 m around it
         xs += [view.pose[0] - 2.0, view.pose[0] + 2.0]
         ys += [view.pose[1] - 2.0, view.pose[1] + 2.0]
@@ -196,15 +202,24 @@ def map_pixels(view: RobotView, width: int, height: int, window: MapWindow | Non
         cv.pixels((c + dc).ravel(), (r + dr).ravel(), np.tile(colours, (5, 1)))
     if view.people:
         _people(cv, view.people)
-    x, y, yaw = view.pose
+    for o in view.others:
+        colour = FLEET[(view.fleet.index(o.robot) if o.robot in view.fleet else 0) % len(FLEET)]
+        cv.line(np.asarray(o.plan, float).reshape(-1, 2), colour)
+        _robot(cv, o.pose, colour)
+    _robot(cv, view.pose, ROBOT)
+    return cv
+
+
+def _robot(cv: Canvas, pose, colour) -> None:
+    """A robot's footprint (at least 3 x 3 pixels) and its heading line."""
+    x, y, yaw = pose
     half = max(ROBOT_HALF, 1.0 / cv.scale)  # at least 3 x 3 pixels
     n = max(3, int(math.ceil(4 * half * cv.scale)) + 1)  # two samples per pixel: no gaps when turned
     fwd, left = (a.ravel() for a in np.meshgrid(np.linspace(-half, half, n), np.linspace(-half, half, n)))
     cos, sin = math.cos(yaw), math.sin(yaw)
-    cv.dots(x + fwd * cos - left * sin, y + fwd * sin + left * cos, ROBOT)
+    cv.dots(x + fwd * cos - left * sin, y + fwd * sin + left * cos, colour)
     nose = np.linspace(0.0, max(NOSE, 2.5 / cv.scale), max(3, int(NOSE * cv.scale * 2)))
     cv.dots(x + nose * cos, y + nose * sin, HEADING)
-    return cv
 
 
 def _people(cv: Canvas, people) -> None:
@@ -253,7 +268,9 @@ def _inputs(view: RobotView) -> tuple:
     pots = tuple((p.x, p.y, p.status, bool(p.anomalies)) for p in view.pots)
     plan, scan = np.asarray(view.plan), np.asarray(view.scan)
     people = tuple((p.x, p.y, p.vx, p.vy, p.radius, p.walked) for p in view.people)
-    return (tuple(view.pose), view.goal, grids, pots, plan.shape, plan.tobytes(), scan.shape, scan.tobytes(), people)
+    others = tuple((o.robot, tuple(o.pose), np.asarray(o.plan).tobytes()) for o in view.others)
+    return (tuple(view.pose), view.goal, grids, pots, plan.shape, plan.tobytes(), scan.shape, scan.tobytes(), people,
+            others)
 
 
 class MapPanel(Widget):
