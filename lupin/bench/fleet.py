@@ -13,6 +13,10 @@ then, for comparison, through a ``--no-tls`` router (``tcp``) and straight to r1
 ``fleet.bytes``: payload bytes per second the console receives through the TLS router with the
 three robots idle, in total and per robot; the goal is a total within 3x one robot's.
 
+``fleet.soak``: the issue's ten minutes, three ``lupin serve`` robots and a console on the TLS
+router, a stop every 2 s (a robot's stop key from another robot's certificate, the console's
+command, the fleet stop), every one checked in the robot's own telemetry: nothing may be lost.
+
 ``fleet.join``: from r1's link opening (its session to the router, its liveliness token) to the
 console listing it, over ``JOIN_TRIALS`` joins; and from a ``lupin serve`` robot's SIGKILL to the
 console dropping it, over ``DEATH_TRIALS`` deaths. Goal: 1 s each. ``process_start`` is from
@@ -33,7 +37,7 @@ import numpy as np
 
 from fleet.certs import make_fleet, member_files
 from lupin.bench import Sample, benchmark
-from lupin.bench.link import TOKEN, _stderr, _wait, console_presses, live_runtime
+from lupin.bench.link import STOP_WITHIN_S, TOKEN, _stderr, _wait, console_presses, live_runtime
 from lupin.cli.console import stop_child
 from mission.link.client import LinkClient
 from mission.link.roster import Roster
@@ -212,3 +216,70 @@ def join(config: LupinConfig) -> Sample:
     return Sample(joins + deaths, {"join": stats(joins), "death": stats(deaths), "process_start": stats(starts),
                                    "attempted_joins": JOIN_TRIALS,
                                    "attempted_deaths": DEATH_TRIALS, "failures": missed})
+
+
+SOAK_S = 600.0
+"""The issue's soak: three robots and a console through one router for 10 minutes."""
+SOAK_EVERY_S = 2.0
+
+
+@benchmark("fleet.soak")
+def soak(config: LupinConfig) -> Sample:
+    """Three ``lupin serve`` robots and a console on the TLS router for ``SOAK_S``; every
+    ``SOAK_EVERY_S`` a stop goes out in turn as a robot's stop key from another robot, the
+    console's ``estop`` command and the fleet stop, then the console releases. A stop is *lost*
+    when its query is not answered or the robot's telemetry does not show it engaged within
+    ``STOP_WITHIN_S``; every one is counted (times: query sent to engaged in its telemetry, the
+    fleet stop's robots read one after another). Each release must show in the telemetry before
+    the next stop, so an engaged flag is never an old one."""
+    from mission.link.fleet_link import FleetLink
+
+    robots = ["r1", *OTHERS]
+    times: list[float] = []
+    lost: list[str] = []
+    attempted = 0
+    with fleet_files() as (certs, tmp), ExitStack() as stack:
+        router = free_endpoint("tls")
+        stack.callback(stop_child, start_lupin(["router", "--listen", router, "--certs", str(certs)], "listening on"))
+        env = {"LUPIN_LINK__COMMAND_TIMEOUT": "8", "LUPIN_HISTORY__URL": "none"}
+        for name in robots:
+            stack.callback(stop_child, start_lupin(["serve", "--robot", name, "--connect", router, "--certs", str(certs),
+                                                    "--runs", str(tmp / name)], f"robot {name!r}", env))
+        console = FleetLink(router, clock=time.monotonic, tls=member_files(certs, "ops"), timeout=STOP_WITHIN_S)
+        stack.callback(console.close)
+        peer = LinkClient(router, "r1", clock=time.monotonic, tls=member_files(certs, "r2"), timeout=STOP_WITHIN_S)
+        stack.callback(peer.close)  # r2's certificate: may stop, may not release
+        if not _wait(lambda: console.robots() == robots and all(console.client(r).view().connected for r in robots), 60):
+            _stderr(f"fleet.soak: only {console.robots()} up after 60 s; every stop is tried anyway")
+        end, k = time.perf_counter() + SOAK_S, 0
+        while time.perf_counter() < end:
+            how = ("peer", "console", "fleet")[k % 3]
+            target = robots[k % len(robots)]
+            k += 1
+            t0 = time.perf_counter()
+            if how == "peer":
+                err, targets = peer.stop(), ["r1"]
+            elif how == "console":
+                err, targets = console.client(target).send("estop", engaged=True), [target]
+            else:
+                answered = console.stop_fleet()
+                err, targets = (None if answered == robots else f"answered {answered}"), robots
+            for r in targets:
+                attempted += 1
+                if err is not None:
+                    lost.append(f"{how} stop of {r}: {err}")
+                elif _wait(lambda: console.client(r).view().estop_engaged, STOP_WITHIN_S):
+                    times.append((time.perf_counter() - t0) * 1000.0)
+                else:
+                    lost.append(f"{how} stop of {r}: not engaged in its telemetry within {STOP_WITHIN_S:g} s")
+            for r in targets:
+                if console.client(r).send("estop", engaged=False) is not None:
+                    lost.append(f"release of {r} refused")
+            for r in targets:  # released in its telemetry before the next stop is timed
+                if not _wait(lambda: not console.client(r).view().estop_engaged, STOP_WITHIN_S):
+                    lost.append(f"release of {r}: still engaged in its telemetry after {STOP_WITHIN_S:g} s")
+            time.sleep(max(0.0, SOAK_EVERY_S - (time.perf_counter() - t0)))
+    for m in lost:
+        _stderr(f"fleet.soak: LOST {m}")
+    return Sample(times, {"attempted": attempted, "engaged": len(times), "lost": len(lost), "soak_s": SOAK_S,
+                          "robots": len(robots), "losses": lost[:20]})
