@@ -6,6 +6,8 @@ clock advances the physics. Above the HAL nothing knows it is simulated.
 """
 from __future__ import annotations
 
+import math
+
 import mujoco
 import numpy as np
 
@@ -42,7 +44,7 @@ class SimRobot:
         self._chassis = engine.id(mujoco.mjtObj.mjOBJ_GEOM, "chassis")
 
         self.drive = SimDrive(engine, sc.drive, hw_config.base)
-        self.battery = SimBattery(engine, sc.battery, self.drive.load)
+        self.battery = SimBattery(engine, sc.battery, self.drive.load, self._on_dock)
         self.servos = SimServoBus(engine, hw_config.servos, sc.servo_noise_counts, self.battery.voltage_mv)
         self.lidar = SimLidar(engine, sc.lidar)
         self.button = SimEStopButton(hw_config.estop.engaged_level)
@@ -84,6 +86,11 @@ class SimRobot:
         """Ground-truth base pose in the world frame (what odometry is judged against)."""
         x, y, yaw = self.engine.data.qpos[self._base_qpos]
         return Pose2D(float(x), float(y), float(yaw))
+
+    def _on_dock(self) -> bool:
+        """The robot stands on its dock: the charger's contacts reach it (``battery.dock_reach``)."""
+        dock, here = self.world.dock_pose, self.truth()
+        return math.hypot(here.x - dock.x, here.y - dock.y) <= self.sim_config.battery.dock_reach
 
     def touching(self) -> list[str]:
         """Names of the world geoms the chassis is in contact with right now (bumps)."""

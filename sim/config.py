@@ -88,6 +88,16 @@ class BatteryConfig(_Strict):
     """Compute + sensors draw, A (untuned)."""
     stall_current: float = Field(2.0, ge=0)
     """Per-motor current at 100 % duty, A (untuned)."""
+    charge_current: float = Field(2.0, ge=0)
+    """What the dock's charger pushes into the pack in its constant-current phase, A: about 1 C
+    for the 2.2 Ah pack, a usual LiPo charge rate (a full charge in a little over an hour)."""
+    charge_taper_from: float = Field(0.8, ge=0, le=1)
+    """Charge fraction where the charger turns to constant voltage: the current then falls in
+    proportion to what is still missing (a LiPo's CC-CV charge), so the last 20 % are slower."""
+    dock_reach: float = Field(0.3, gt=0)
+    """The dock's contacts touch the robot within this distance of the dock pose, m: the
+    navigation goal checker's 0.25 m tolerance and a little (untuned; a real dock's guide
+    rails take up the rest)."""
 
 
 class GreenhouseGeometry(_Strict):

@@ -64,6 +64,11 @@ class SimFaults:
         """Force the pack voltage (None gives control back to the battery model)."""
         self._battery.forced_voltage = voltage
 
+    def battery_drain(self, load: float, duration: float) -> None:
+        """An extra load on the pack for ``duration`` s (a stuck wheel, a short): ``load`` amps
+        more than the robot's work draws, which the power monitor sees."""
+        self._battery.extra_load = (float(load), self.engine.time + duration)
+
     def place_box(self, x: float, y: float, sx: float, sy: float, yaw: float = 0.0, h: float = 0.5) -> None:
         """Drop a box on the floor (world frame, full sizes), from the model's spare boxes."""
         if self._boxes_used >= SPARE_BOXES:

@@ -2,7 +2,10 @@
 
 The battery is a resistive 3S pack: open-circuit voltage falls linearly with charge used
 (full 12.6 V to empty 11.1 V, the seed's power_watcher min_voltage) and the terminal voltage
-sags by I*R under load, so driving visibly pulls the voltage down. A fault can force it.
+sags by I*R under load, so driving visibly pulls the voltage down. A fault can force it, or add
+a load (a stuck wheel, a short) that drains it faster than the robot's own work. While the robot
+stands on the dock the charger pushes current into the pack (CC-CV: constant, then tapering),
+so the power monitor reads a negative current, as the INA226 does on the robot.
 """
 from __future__ import annotations
 
@@ -35,21 +38,35 @@ class SimImu:
 class SimBattery:
     """Implements the HAL's PowerMonitor. ``load()`` returns the drivetrain's duty load (0..4)."""
 
-    def __init__(self, engine: Engine, config: BatteryConfig, load: Callable[[], float]):
+    def __init__(self, engine: Engine, config: BatteryConfig, load: Callable[[], float],
+                 on_dock: Callable[[], bool] = lambda: False):
         self.engine = engine
         self.config = config
         self._load = load
+        self._on_dock = on_dock
         self._used_ah = 0.0
         self._t = engine.time
         self.forced_voltage: float | None = None
+        self.extra_load: tuple[float, float] = (0.0, 0.0)
+        """A fault's extra draw: (amps, until sim time)."""
+
+    @property
+    def charge(self) -> float:
+        """The pack's true charge, 0..1 (for judging only)."""
+        return max(0.0, 1.0 - self._used_ah / self.config.capacity_ah)
 
     def _current(self) -> float:
-        return self.config.idle_current + self.config.stall_current * self._load()
+        c = self.config
+        if self._on_dock():  # the charger carries the robot's load and charges the pack
+            missing = (1.0 - self.charge) / max(1e-9, 1.0 - c.charge_taper_from)
+            return -c.charge_current * min(1.0, missing)
+        amps, until = self.extra_load
+        return c.idle_current + c.stall_current * self._load() + (amps if self.engine.time < until else 0.0)
 
     def _integrate(self) -> float:
         now = self.engine.time
         current = self._current()
-        self._used_ah += current * max(0.0, now - self._t) / 3600.0
+        self._used_ah = max(0.0, self._used_ah + current * max(0.0, now - self._t) / 3600.0)
         self._t = now
         return current
 
@@ -58,8 +75,7 @@ class SimBattery:
         if self.forced_voltage is not None:
             return PowerReading(self.engine.time, self.forced_voltage, current)
         c = self.config
-        soc = max(0.0, 1.0 - self._used_ah / c.capacity_ah)
-        v = c.empty_voltage + (c.full_voltage - c.empty_voltage) * soc - c.internal_resistance * current
+        v = c.empty_voltage + (c.full_voltage - c.empty_voltage) * self.charge - c.internal_resistance * current
         return PowerReading(self.engine.time, v, current)
 
     def voltage_mv(self) -> int:

@@ -21,7 +21,7 @@ Public API: :class:`World` and its parts, :func:`load_world`, :func:`parse_world
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Literal, Optional
 
 import yaml
 from pydantic import Field, ValidationError
@@ -154,6 +154,8 @@ class World(StrictEntry):
     """Interior size; the floor spans [0, x] x [0, y]."""
     spawn: Pose2
     """Robot start pose, normally in the south aisle."""
+    dock: Optional[Pose2] = None
+    """Where the robot charges (issue 31); None: the spawn pose, the robot starts on its dock."""
     pots: list[Pot]
     """The pots, in any order; ids and tags are unique."""
     obstacles: list[Obstacle] = []
@@ -162,6 +164,11 @@ class World(StrictEntry):
     """Optional people walking the aisles."""
     climate: dict[int, Climate] = {}
     """Optional climate readings keyed by tag id; every key must be a tag that some pot carries."""
+
+    @property
+    def dock_pose(self) -> Pose2:
+        """The charger's pose: ``dock``, or the spawn pose when the file names none."""
+        return self.dock or self.spawn
 
     def climate_readings(self) -> dict[int, dict[str, float]]:
         """The climate table as a greenhouse data source hands it out: per tag, the known fields."""
@@ -230,6 +237,7 @@ def dump_world(world: World) -> str:
         "name": world.name,
         "floor": world.floor.model_dump(),
         "spawn": world.spawn.model_dump(),
+        **({"dock": world.dock.model_dump()} if world.dock is not None else {}),
         "pots": [p.model_dump(exclude_none=True) for p in world.pots],
     }
     if world.obstacles:

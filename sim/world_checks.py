@@ -76,6 +76,9 @@ def world_problems(
 
     s = world.spawn
     out += [f"spawn{p}" for p in robot_circle_problems(world, s.x, s.y, r, robot_radius)]
+    if world.dock is not None:
+        d = world.dock
+        out += [f"dock{p}" for p in robot_circle_problems(world, d.x, d.y, r, robot_radius)]
 
     for tag in world.climate:
         if tag not in first_tag:

@@ -1,6 +1,6 @@
 """`lupin mission ...`: the mission that patrols every pot of a world (``from-world``), a
-mission brought up to date from a patrol's report (``update``), and a directed re-scouting
-mission from the patrol history (``rescout``)."""
+mission brought up to date from a patrol's report (``update``), the pots a patrol left undone
+(``resume``), and a directed re-scouting mission from the patrol history (``rescout``)."""
 from __future__ import annotations
 
 import sys
@@ -43,6 +43,22 @@ def update(
     _write(result.text(), output)
     print(f"{len(result.moved)} moved ({', '.join(result.moved) or 'none'}), {len(result.added)} added for review "
           f"({', '.join(result.added) or 'none'})", file=sys.stderr if output is None else sys.stdout)
+
+
+@mission_app.command("resume")
+def resume(
+    report: Path = typer.Argument(..., help="The report.json of a patrol that ended early."),
+    output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write here instead of stdout."),
+) -> None:
+    """Write the mission of the pots REPORT left undone (skipped, or never reached), in the
+    shortest order, from the mission written beside it."""
+    from mission.patrol.mission_file import dump_mission
+    from mission.patrol.mission_resume import resume_mission
+
+    mission = resume_mission(report)
+    _write(dump_mission(mission), output)
+    print(f"{len(mission.pots)} pot(s) left undone: {_some(tuple(p.id for p in mission.pots))}",
+          file=sys.stderr if output is None else sys.stdout)
 
 
 @mission_app.command("rescout")

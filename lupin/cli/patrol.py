@@ -111,6 +111,14 @@ def check_map(mission, saved_map: Optional[Path]) -> None:
         raise InputError("\n".join(f"--map {saved_map}: does not cover {p}" for p in problems))
 
 
+def energy_line(energy) -> str:
+    """The charge and what the budget expects at the dock after the next pot (issue 31)."""
+    if energy.charge is None:
+        return ""
+    dock = f", {energy.projected:.0%} at dock" if energy.projected is not None else ""
+    return f"charge {energy.charge:.0%}{dock}  "
+
+
 class Progress:
     """A rich status line: pot k of n, current step, sim and wall time."""
 
@@ -125,8 +133,9 @@ class Progress:
     def __call__(self, run) -> None:
         tree = run.tree
         k = min(tree.pots_done() + 1, self.total)
-        self.live.update(f"pot {k} of {self.total}  {tree.current_step():<28.28}  "
-                         f"{run.robot.scheduler.clock.now():6.1f} s sim  {time.perf_counter() - self.wall0:5.1f} s wall")
+        self.live.update(f"pot {k} of {self.total}  {tree.current_step():<28.28}  {energy_line(tree.energy)}"
+                         f"{run.robot.scheduler.clock.now():6.1f} s sim  {time.perf_counter() - self.wall0:5.1f} s wall"
+                         + (f"\nheading home: {tree.energy.why_home}" if tree.energy.why_home else ""))
 
     def stop(self) -> None:
         self.live.stop()
@@ -150,6 +159,14 @@ def patrol(
                                           help="Record the patrol in this history (spec/history.md): a SQLite file, "
                                                "postgresql://user@host/db, or none (default: history.url, "
                                                "lupin-history.db here)."),
+    resume: Optional[Path] = typer.Option(None, "--resume", metavar="REPORT",
+                                          help="Patrol the pots this report left undone (skipped or never reached), "
+                                               "with the mission written beside it."),
+    max_legs: Optional[int] = typer.Option(None, "--max-legs", min=1,
+                                           help="Trips out from the dock, charging between them (default: as many "
+                                                "as it takes)."),
+    no_charge: bool = typer.Option(False, "--no-charge", help="The dock does not charge: a patrol longer than the "
+                                   "battery ends battery_low at the dock, listing what is left."),
 ) -> None:
     """Run a scripted patrol mission to its end and write the report."""
     from mission.jobs.patrol import run_to_end, start_hw_patrol
@@ -161,6 +178,14 @@ def patrol(
         config = with_overrides(config, {"sim": {"realtime": True}})
     if saved_map is not None:
         config = with_overrides(config, {"nav": {"slam": False, "map_file": str(saved_map)}})
+    if max_legs is not None or no_charge:
+        config = with_overrides(config, {"patrol": {"energy": {"max_legs": max_legs, "charge": not no_charge}}})
+    if resume is not None:
+        from mission.patrol.mission_resume import resume_mission
+
+        if mission is not None or survey:
+            raise InputError("lupin patrol --resume: the report names the mission; give neither --mission nor --survey")
+        mission = _write_resumed(resume_mission(resume), report)
     if survey and (mission is not None or saved_map is not None):
         raise InputError("lupin patrol --survey: the survey writes the mission and maps as it goes; "
                          "give neither --mission nor --map")
@@ -209,6 +234,17 @@ def patrol(
     print(summary(doc, report))
     if doc["outcome"] != "completed":
         raise typer.Exit(1)
+
+
+def _write_resumed(mission, report: Path) -> Path:
+    """The resumed mission as a file (beside the new report) the patrol then loads as usual."""
+    from hw.atomic_file import write_atomic
+    from mission.patrol.mission_file import dump_mission
+
+    check_report(report)
+    path = report.parent / "resumed-mission.yaml"
+    write_atomic(path, dump_mission(mission).encode())
+    return path
 
 
 def _interrupt(signum, frame) -> None:

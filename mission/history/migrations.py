@@ -85,10 +85,24 @@ def _v3(conn: Connection) -> None:
     conn.exec_driver_sql("CREATE UNIQUE INDEX ux_patrols_uid ON patrols (uid)")
 
 
+def _v4(conn: Connection) -> None:
+    """``legs``: a patrol's trips out from the dock between charges (issue 31)."""
+    md = MetaData()
+    Table("patrols", md, Column("id", Integer, primary_key=True))  # only what the foreign key names
+    legs = Table("legs", md,
+                 Column("patrol_id", Integer, ForeignKey("patrols.id", ondelete="CASCADE"), nullable=False),
+                 Column("leg", Integer, nullable=False), Column("left_s", Float), Column("charge_left", Float),
+                 Column("returned_s", Float), Column("charge_returned", Float), Column("pots", Integer),
+                 Column("why_home", Text), Column("charged_s", Float), Column("charge_after", Float),
+                 PrimaryKeyConstraint("patrol_id", "leg"), sqlite_with_rowid=False)
+    legs.create(conn)
+
+
 MIGRATIONS: tuple[Migration, ...] = (
     Migration(1, "patrols and observations (spec/history.md)", _v1),
     Migration(2, "indexes for a year of patrols; patrols.pots, observations.facing and tag_expected", _v2),
     Migration(3, "patrols.uid: the robot's id of a patrol, unique (a resend from the spool is a no-op)", _v3),
+    Migration(4, "legs: a patrol's trips out from the dock between charges", _v4),
 )
 LATEST = MIGRATIONS[-1].version
 ADVISORY_LOCK = 0x1A9_0C0DE

@@ -121,7 +121,8 @@ class PatrolRecorder:
                 skipped.append(observation(self.pots[entry["id"]], entry, ("skipped",), self._seq,
                                            self.history.clock(), self.directory))
         with self._lock:
-            self._end = (doc["outcome"], doc.get("sim_time_s"), doc.get("distance_m"), self.history.clock())
+            self._end = (doc["outcome"], doc.get("sim_time_s"), doc.get("distance_m"), self.history.clock(),
+                         tuple(doc.get("legs", ())))
         self._queue(skipped)
         self._kicks.put(_STOP)
 

@@ -12,6 +12,9 @@ Beyond the spec's columns (schema version 2 on):
 - ``patrols.uid`` (version 3): the patrol's own id, made by the robot when it starts (a UUID),
   unique: a patrol's rows can wait in the robot's spool while the server is down and be sent
   later, and a resend finds the patrol already there instead of writing it twice.
+- ``legs`` (version 4): a patrol longer than one battery is one patrol in legs out from the
+  dock (issue 31): when each left and came back (seconds into the patrol), the charge then
+  (share of the pack), the pots it finished, why it came home, and the charge it waited for.
 
 Timestamps are UTC: timezone-aware on PostgreSQL (``timestamptz``), ISO text on SQLite
 (``2025-05-01 06:00:00.000000``, which sorts as time does). Ids are integers the database
@@ -67,6 +70,22 @@ observations = Table(
     Column("facing", Float),
     Column("tag_expected", Integer),
     PrimaryKeyConstraint("patrol_id", "pot_id"),
+    sqlite_with_rowid=False,
+)
+
+legs = Table(
+    "legs", metadata,
+    Column("patrol_id", Integer, ForeignKey("patrols.id", ondelete="CASCADE"), nullable=False),
+    Column("leg", Integer, nullable=False),
+    Column("left_s", Float),
+    Column("charge_left", Float),
+    Column("returned_s", Float),
+    Column("charge_returned", Float),
+    Column("pots", Integer),
+    Column("why_home", Text),
+    Column("charged_s", Float),
+    Column("charge_after", Float),
+    PrimaryKeyConstraint("patrol_id", "leg"),
     sqlite_with_rowid=False,
 )
 

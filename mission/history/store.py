@@ -40,7 +40,7 @@ from mission.history import queries
 from mission.history.migrations import LATEST, NewerSchema, NotAHistory, migrate
 from mission.history.outbox import Outbox
 from mission.history.records import (ChangeSet, Observation, Patrol, PatrolStart, PestMap, TimelineEntry)
-from mission.history.schema import observations, patrols, schema_version
+from mission.history.schema import legs, observations, patrols, schema_version
 from mission.history.spool import Spool
 from mission.history.url import HistoryTarget, parse_history_url
 from mission.history.writes import Begin, End, Rows, Write, new_uid
@@ -199,8 +199,11 @@ class History:
                         pid = self._id(conn, w.uid)
                         conn.execute(_insert_new(conn, observations), [o.row(pid) for o in w.rows])
                 elif isinstance(w, End):
-                    conn.execute(update(patrols).where(patrols.c.id == self._id(conn, w.uid)).values(
+                    pid = self._id(conn, w.uid)
+                    conn.execute(update(patrols).where(patrols.c.id == pid).values(
                         ended_at=w.ended_at, outcome=w.outcome, sim_time_s=w.sim_time_s, distance_m=w.distance_m))
+                    if w.legs:
+                        conn.execute(_insert_new(conn, legs), [{"patrol_id": pid, **_leg_row(g)} for g in w.legs])
 
     def _id(self, conn: Connection, uid: str) -> int:
         if uid not in self._ids:
@@ -233,6 +236,12 @@ class History:
                 ended_at=ended_at or self.clock(), outcome=outcome, sim_time_s=sim_time_s, distance_m=distance_m))
 
     # --- reading (the one interface the CLI, serve's link and the console use) ----------------
+    def legs(self, patrol_id: int) -> list[dict]:
+        """The patrol's legs out from the dock, in order (none for a patrol ended before its end)."""
+        with self.reading() as c:
+            rows = c.execute(select(legs).where(legs.c.patrol_id == patrol_id).order_by(legs.c.leg)).mappings()
+            return [{k: v for k, v in row.items() if k != "patrol_id"} for row in rows]
+
     def patrol(self, patrol_id: int) -> Patrol | None:
         with self.reading() as c:
             return queries.patrol(c, patrol_id)
@@ -273,6 +282,11 @@ class History:
     def version(self) -> int:
         with self.reading() as c:
             return int(c.execute(select(func.max(schema_version.c.version))).scalar() or 0)
+
+
+def _leg_row(leg: dict) -> dict:
+    """A report's ``legs`` entry as a ``legs`` row (its columns only)."""
+    return {c.name: leg.get(c.name) for c in legs.columns if c.name != "patrol_id"}
 
 
 def _insert_new(conn: Connection, table):

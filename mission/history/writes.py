@@ -54,16 +54,18 @@ class Rows:
 
 @dataclass(frozen=True)
 class End:
-    """A patrol ended: its outcome, time, distance and ``ended_at``."""
+    """A patrol ended: its outcome, time, distance and ``ended_at``, and its legs (the report's
+    ``legs`` entries: ``legs`` rows)."""
     uid: str
     outcome: str
     sim_time_s: float | None
     distance_m: float | None
     ended_at: datetime
+    legs: tuple[dict, ...] = ()
 
     def as_json(self) -> dict:
         return {"op": "end", "uid": self.uid, "outcome": self.outcome, "sim_time_s": self.sim_time_s,
-                "distance_m": self.distance_m, "ended_at": self.ended_at.isoformat()}
+                "distance_m": self.distance_m, "ended_at": self.ended_at.isoformat(), "legs": list(self.legs)}
 
 
 Write = Union[Begin, Rows, End]
@@ -79,7 +81,8 @@ def from_json(doc: dict) -> Write:
                      for r in doc["rows"])
         return Rows(doc["uid"], rows)
     if op == "end":
-        return End(doc["uid"], doc["outcome"], doc["sim_time_s"], doc["distance_m"], _when(doc["ended_at"]))
+        return End(doc["uid"], doc["outcome"], doc["sim_time_s"], doc["distance_m"], _when(doc["ended_at"]),
+                   tuple(doc.get("legs", ())))
     raise ValueError(f"not a history write: op {op!r}")
 
 

@@ -104,6 +104,8 @@ class EventPlayer:
                 f.servo_stall(e.joint, e.mode)
             case ev.Battery():
                 f.battery(e.voltage)
+            case ev.BatteryDrain():
+                f.battery_drain(e.load, e.duration)
             case ev.ClearMap():
                 clear_map(self.nav, now)
             case ev.Teleop():

@@ -21,12 +21,14 @@ from hw.atomic_file import write_atomic, write_png
 from hw.collision_monitor import LIDAR_BLIND
 from hw.odometry import Pose2D
 from hw.people import nobody
+from hw.power_policy import RATE as POWER_RATE
 from mission.history.recorder import PatrolRecorder, start_recording
 from mission.history.store import History
 from mission.patrol.climate import ClimateSource, NoClimate
 from mission.patrol.faults import RATE as FAULT_RATE, Faults
 from mission.patrol.monitor_holds import RATE as HOLDS_RATE, MonitorHolds
-from mission.patrol.mission_file import Mission
+from mission.patrol.mission_file import Mission, dump_mission
+from mission.patrol.mission_resume import MISSION_FILE
 from mission.patrol.person_encounters import PersonEncounters
 from mission.patrol.report import PatrolReport
 from mission.patrol.run_picture import PotMark, contact_sheet, draw_run
@@ -134,6 +136,7 @@ class PatrolRun:
         self.robot.scheduler.cancel("patrol.holds")
         self.robot.scheduler.cancel("patrol.people")
         self.robot.scheduler.cancel("patrol.faults")
+        self.robot.scheduler.cancel("patrol.energy")
         occupancy = final_map(self.nav, self.robot.scheduler)
         directory = self.report.directory
         if occupancy is not None:
@@ -182,6 +185,7 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
     With ``history`` the patrol is recorded there as it goes (``world``: the sim world's name)
     and the report gains ``changes`` against the previous patrol of the same mission."""
     save_config(config, Path(report_path).parent)
+    write_atomic(Path(report_path).parent / MISSION_FILE, dump_mission(mission).encode())  # what --resume reads
     perception = reading_mission_tags(perception, mission)
     clock = robot.scheduler.clock
     cameras = camera_pipelines(robot.hal.cameras, clock, perception)
@@ -204,6 +208,8 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
                      "lidar_lost": lambda: tree.lidar.lost_for() is not None}, report.t0)
     report.observers.append(faults)
     robot.scheduler.every("patrol.faults", FAULT_RATE, faults.tick)
+    robot.scheduler.every("patrol.energy", POWER_RATE,
+                          lambda now: tree.energy.sample(robot.power.reading, robot.base.odometry.pose))
     run = PatrolRun(robot, nav, tree, report, close, history=recorder)
     robot.mission_state = run.led_state
 

@@ -6,6 +6,43 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator
 from arm.presets import PRESETS
 
 
+class EnergyConfig(BaseModel):
+    """The patrol's energy budget (``mission.patrol.energy``, issue 31): when to head home, how
+    far to charge, how many trips. What the robot's work costs starts from the sim's battery
+    model (``sim.battery``: its capacity, voltages, idle and motor currents) and is refined from
+    the power monitor's current as the robot works."""
+
+    model_config = ConfigDict(extra="forbid", use_attribute_docstrings=True)
+
+    reserve: float = Field(0.15, ge=0, lt=1)
+    """Charge the robot must still have when it reaches the dock, share of the pack: a LiPo
+    drawn below ~15 % ages fast and its voltage falls off a cliff, and it leaves room for a
+    detour the plan did not see."""
+    margin: float = Field(1.3, ge=1)
+    """What a pot and the way home are expected to cost is multiplied by this before it is held
+    against the charge: the driven path is longer than the planner's straight-celled one
+    (detours round people, re-approaches), and the costs are averages."""
+    charge: bool = True
+    """The dock charges the robot (``lupin patrol --no-charge``: it does not; a patrol that
+    needs more than one charge then ends ``battery_low`` at the dock, listing what is left)."""
+    charge_to: float = Field(0.95, gt=0, le=1)
+    """Charge to wait for on the dock before the next leg: the last 5 % of a CC-CV charge take
+    as long as the 20 % before them."""
+    charge_start_timeout: float = Field(60.0, gt=0)
+    """Seconds on the dock without current into the pack before the robot says it is not
+    charging (a dock it missed, a charger off) and ends the patrol ``battery_low``."""
+    max_legs: int | None = Field(None, ge=1)
+    """Trips out from the dock (``lupin patrol --max-legs N``); None: as many as it takes."""
+    pot_seconds: float = Field(10.0, gt=0)
+    """Seconds the robot is expected to stand still at a pot before it has stood at any (the tag,
+    the wrist frame; the arm moves while the base turns: 3-5 s in the sim's default patrol, more
+    where people hold it); then the mean of the last pots it did."""
+    check_every: float = Field(1.0, gt=0)
+    """Seconds between checks that the robot can still reach the dock with the reserve (one
+    wavefront from the dock over the map each time): a pack draining faster than the model said
+    sends it home within a second."""
+
+
 class PatrolConfig(BaseModel):
     model_config = ConfigDict(extra="forbid", use_attribute_docstrings=True)
 
@@ -104,6 +141,8 @@ class PatrolConfig(BaseModel):
     discovered_max_distance: float = Field(1.5, gt=0)
     """Tags seen en route are placed on the map only when read nearer than this, m: further
     away the pose from a 10 cm tag is too coarse to say which pot it is on."""
+    energy: EnergyConfig = EnergyConfig()
+    """When to head home to charge and how far to charge (``mission.patrol.energy``)."""
 class SurveyConfig(BaseModel):
     """`lupin survey`: exploring a greenhouse and finding its pots by their tags."""
 

@@ -83,6 +83,14 @@ class Battery(_Event):
     """Forced pack voltage, V; null gives the pack back to the battery model."""
 
 
+class BatteryDrain(_Event):
+    do: Literal["battery_drain"]
+    load: float = Field(gt=0)
+    """Amps drawn from the pack beyond the robot's own work (a stuck wheel, a short)."""
+    duration: float = Field(gt=0)
+    """Seconds the extra load lasts."""
+
+
 class ClearMap(_Event):
     do: Literal["clear_map"]
 
@@ -150,7 +158,7 @@ class HistoryDown(_Event):
     """Seconds the history's database cannot be reached (a farm server down, the WiFi gone)."""
 
 
-EVENT_TYPES = (EStop, SoftEStop, Resume, Pause, LidarDropout, LidarBlind, ServoStall, Battery, ClearMap, Teleop, PlaceBox,
+EVENT_TYPES = (EStop, SoftEStop, Resume, Pause, LidarDropout, LidarBlind, ServoStall, Battery, BatteryDrain, ClearMap, Teleop, PlaceBox,
                ControllerRace, CameraDropout, MovePot, WalkerEvent, RuntimeCrash, HistoryDown)
 ACTIONS = {t.model_fields["do"].annotation.__args__[0]: t for t in EVENT_TYPES}
 Event = Annotated[Union[EVENT_TYPES], Field(discriminator="do")]

@@ -127,10 +127,14 @@ def _r(v: float) -> float:
 
 def mission_from_world(world: World, name: str | None = None) -> Mission:
     """Every pot of ``world``, in the map frame of a robot starting at the world's spawn pose
-    (the dock is the origin), home at the dock, tags as printed, in the shortest order."""
-    dock = inverse(Pose2D(world.spawn.x, world.spawn.y, world.spawn.yaw))
+    (the origin), home at the world's dock (the spawn unless it names one), tags as printed, in
+    the shortest order."""
+    start = inverse(Pose2D(world.spawn.x, world.spawn.y, world.spawn.yaw))
     pots = []
     for p in world.pots:
-        q = compose(dock, Pose2D(p.x, p.y, p.facing))
+        q = compose(start, Pose2D(p.x, p.y, p.facing))
         pots.append(MissionPot(id=p.id, x=_r(q.x), y=_r(q.y), facing=_r(q.yaw), tag=p.tag))
-    return Mission(name=name or f"{world.name}-patrol", pots=pots, order="shortest")
+    d = world.dock_pose
+    dock = compose(start, Pose2D(d.x, d.y, d.yaw))
+    return Mission(name=name or f"{world.name}-patrol", pots=pots, order="shortest",
+                   home=Home(x=_r(dock.x), y=_r(dock.y), yaw=_r(dock.yaw)))

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import json
 import math
+from dataclasses import replace
 from pathlib import Path
 from typing import Callable, Protocol
 
@@ -38,6 +39,7 @@ from hw.odometry import Pose2D
 from mission.patrol.climate import ClimateSource
 from mission.patrol.config import PatrolConfig
 from mission.patrol.map_drift import in_mission_frame
+from mission.patrol.run_picture import fit_thumbnail
 from mission.patrol.mission_file import Mission, MissionPot
 from mission.patrol.tag_sightings import PotEstimate, TagSightings
 from nav.frames import compose, yaw_error
@@ -148,6 +150,10 @@ class PatrolReport:
         for name, frame in (("front", visit.front), ("wrist", visit.wrist)):
             if frame is not None:
                 entry["images"].append(self._save_image(f"{pot.id}_{name}.jpg", frame))
+        # on disk now: keep only the run picture's thumbnail, or a day's patrol holds ~2 MB a pot
+        visit.front = None
+        if visit.wrist is not None:
+            visit.wrist = replace(visit.wrist, image=fit_thumbnail(visit.wrist.image))
         self.pots[pot.id] = entry
         self.anomalies.extend({"kind": k, "pot": pot.id, "detail": d, **extra.get(k, {})} for k, d in anomalies)
         visit.done = True

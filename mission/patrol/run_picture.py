@@ -193,14 +193,19 @@ def _legend(pots: Sequence[PotMark], width: int, note: str = "") -> np.ndarray:
     return img
 
 
+def fit_thumbnail(image: np.ndarray) -> np.ndarray:
+    """``image`` (BGR or grey) as a BGR tile's picture, fit in THUMB_W x THUMB_MAX_H."""
+    t = cv2.cvtColor(image, cv2.COLOR_GRAY2BGR) if image.ndim == 2 else image[..., :3]
+    f = min(THUMB_W / t.shape[1], THUMB_MAX_H / t.shape[0])
+    size = (max(1, round(t.shape[1] * f)), max(1, round(t.shape[0] * f)))
+    return cv2.resize(np.ascontiguousarray(t, np.uint8), size, interpolation=cv2.INTER_AREA)
+
+
 def _thumbnail(pot: PotMark) -> np.ndarray:
     """One tile: the image fit in THUMB_W x THUMB_MAX_H, a border in the pot's colour, its caption."""
     t = pot.thumbnail
     if t is not None and t.size:
-        t = cv2.cvtColor(t, cv2.COLOR_GRAY2BGR) if t.ndim == 2 else t[..., :3]
-        f = min(THUMB_W / t.shape[1], THUMB_MAX_H / t.shape[0])
-        size = (max(1, round(t.shape[1] * f)), max(1, round(t.shape[0] * f)))
-        t = cv2.resize(np.ascontiguousarray(t, np.uint8), size, interpolation=cv2.INTER_AREA)
+        t = fit_thumbnail(t)
     else:
         t = np.full((THUMB_W * 3 // 4, THUMB_W, 3), 215, np.uint8)
         _text(t, "no image", (THUMB_W // 2 - 38, THUMB_W * 3 // 8 + 5), 0.5, (90, 90, 90))

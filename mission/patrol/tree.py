@@ -15,7 +15,10 @@
               navigation ready                          the readiness cascade (scans, map, transform)
               arm to travel                             Selector: the arm's travel pose, or note it
             pots and tags                             Parallel: ends when the pots do
-              pots                                      Sequence, in the mission's order
+              pots                                      Legs: a leg, home (and charge), the next leg
+                leg 1                                     Sequence over the pots not done, in order
+                  P01 (energy)                              Sequence: the energy check, then the pot
+                  charge for P01                            enough for the pot, the way back, the reserve
                 P01                                       OneShot: a finished pot is never redone
                   visit P01                                 Selector: inspect, or record it failed
                     inspect P01                               Sequence
@@ -54,6 +57,11 @@ the pot; a pot off the mission's pose is approached again from where it is and r
 ``moved``; with no tag where the pot should be, the pots the map shows nearby are looked at for
 it before it is ``not_found``.
 
+The pots run in legs out from the dock (``mission.patrol.legs``): before each pot the energy
+budget (``mission.patrol.energy``) checks that the pot and the way back leave the reserve on
+the dock, and on the way that the dock is still within reach; when not, the robot goes home,
+charges, and does the pots left in a fresh order from the dock.
+
 A pot the robot could not get to is tried again after the others (its ``later`` branch), then
 recorded failed; the patrol goes on: every pot branch succeeds. Only the start-up
 gate (heal, readiness) can fail the tree. The tag is read first, right at arrival, while the arm
@@ -82,13 +90,15 @@ from behaviours.visit import PotVisit
 from hw.interfaces import Clock
 from hw.odometry import Pose2D
 from mission.patrol.config import PatrolConfig
+from mission.patrol.energy import EnergyBudget
+from mission.patrol.legs import LegLog, Legs, LegsSection
 from mission.patrol.holds import MissionHolds
 from mission.patrol.inspect_view import InspectView
 from mission.patrol.lidar_loss import LidarLoss
 from mission.patrol.mission_file import Mission, MissionPot
 from mission.patrol.pot_finder import PotFinder
 from mission.patrol.visit_order import visit_order
-from nav.path_lengths import path_lengths
+from nav.path_lengths import lengths_from, path_lengths
 from mission.patrol.report import PatrolReport
 from mission.runtime.heal import heal_controllers
 from mission.runtime.robot import Robot
@@ -133,10 +143,17 @@ class PatrolTree:
         self.finder = PotFinder(self.mission, self.nav, self.config)
         self.view = InspectView(self.robot.config.arm, self.config)
         self.detector = FlowerDetector(self.robot.config.perception.flower)
-        start = self.nav.map_pose()
-        self.order = visit_order(self.mission, (start.x, start.y),
-                                 lambda points: path_lengths(self.nav.global_costmap.grid, points))
+        home = self.mission.home
+        self.energy = EnergyBudget(self.config.energy, self.robot.config.sim.battery, self.robot.config.nav.mppi.vx_max,
+                                   (home.x, home.y), lambda origin, points: lengths_from(self.nav.global_costmap.grid,
+                                                                                         origin, points))
+        self.legs = LegLog(lambda: self.clock.now() - self.report.t0, lambda: self.energy.charge)
+        self.report.observers.append(LegsSection(self.legs, self.energy))
+        self.order = self._order(self.mission.pots)
         self.visits = {p.id: PotVisit(p.id) for p in self.order}
+        self._gate_why = ""
+        self._next_check = 0.0
+        self._on_dock_since = 0.0
         if self.holds is None:
             self.holds = MissionHolds(self.robot.estop, self.clock.now, self.report.t0)
         self.lidar = LidarLoss(lambda: self.robot.monitor.untrusted_since, self.clock.now,
@@ -147,6 +164,12 @@ class PatrolTree:
     @property
     def clock(self) -> Clock:
         return self.robot.scheduler.clock
+
+    def _order(self, pots: list[MissionPot]) -> list[MissionPot]:
+        """``pots`` in the mission's order from where the robot stands."""
+        here = self.nav.map_pose()
+        return visit_order(self.mission.model_copy(update={"pots": pots}), (here.x, here.y),
+                           lambda points: path_lengths(self.nav.global_costmap.grid, points))
 
     # --- goals ---------------------------------------------------------------------------
     def approach_goal(self, pot: MissionPot) -> Pose2D:
@@ -210,10 +233,99 @@ class PatrolTree:
         steps = [self._or_note("park arm", self._arm("arm to home", lambda: (preset("home"), "home")),
                                lambda reason: note("park", reason))]
         if self.mission.return_home:
-            home = self.mission.home
-            steps.insert(0, self._or_note("return home", self._drive("drive home", lambda: Pose2D(home.x, home.y, home.yaw)),
-                                          lambda reason: note("home", reason)))
+            steps[:0] = [self._home("return home", "drive home"), Do("on the dock", self.legs.returned)]
         return Sequence(name, memory=True, children=steps)
+
+    def _home(self, name: str, drive: str) -> Selector:
+        home = self.mission.home
+        return self._or_note(name, self._drive(drive, lambda: Pose2D(home.x, home.y, home.yaw)),
+                             lambda reason: self.notes.__setitem__("home", reason))
+
+    # --- legs (mission.patrol.legs.LegPlan) ------------------------------------------------
+    def leg(self) -> Behaviour | None:
+        """The next leg: the pots not done, each after its energy check; the first leg in the
+        order planned at the start, each later one in a fresh order from the dock."""
+        left = [p for p in self.mission.pots if not self.visits[p.id].done]
+        if not left:
+            return None
+        if self.legs.legs:
+            self.order = self._order(left)
+        self._gate_why = ""
+        order = [p for p in self.order if not self.visits[p.id].done]
+        return Sequence(f"leg {len(self.legs.legs) + 1}", memory=True,
+                        children=[self._gated(p) for p in order] + [self._gated(p, later=True) for p in order])
+
+    def _gated(self, pot: MissionPot, later: bool = False) -> Sequence:
+        visit = self.visits[pot.id]
+
+        def enough() -> bool:
+            if visit.done or (later and not visit.deferred):
+                return True
+            here, goal = self.nav.map_pose(), self.approach_goal(pot)
+            why = self.energy.check_pot((here.x, here.y), (goal.x, goal.y))
+            if why:
+                self._gate_why = f"before {pot.id}: {why}"
+            return not why
+
+        label = f"{pot.id} later" if later else pot.id
+        return Sequence(f"{label} (energy)", memory=True,
+                        children=[Check(f"charge for {label}", enough), self._pot(pot, later)])
+
+    def gate_failed(self) -> str:
+        return self._gate_why
+
+    def short(self) -> str:
+        now = self.clock.now()
+        if now < self._next_check:
+            return ""
+        self._next_check = now + self.config.energy.check_every
+        here = self.nav.map_pose()
+        return self.energy.check_home((here.x, here.y))
+
+    def way_home(self, why: str) -> tuple[Behaviour, bool]:
+        """To the dock, then charge there; or, when it may not charge (``--no-charge``, the
+        legs used, a full charge that did not reach one pot), to the dock to end the patrol."""
+        e, legs = self.config.energy, self.legs.legs
+        self.energy.why_home = why
+        stop = ""
+        if not e.charge:
+            stop = "the dock does not charge (--no-charge)"
+        elif e.max_legs is not None and len(legs) >= e.max_legs:
+            stop = f"{len(legs)} leg(s) done, the most allowed (--max-legs)"
+        elif legs and legs[-1].pots == 0 and len(legs) > 1:
+            stop = "a full charge did not reach one more pot"
+        to_dock = [self._home("return to the dock", "drive to the dock"), Do("on the dock", self._docked)]
+        if stop:
+            self._battery_end(f"{why}; {stop}")
+            return Sequence("home to stop", memory=True, children=to_dock), False
+        charged = WaitUntil(f"charging to {e.charge_to:.0%}",
+                            lambda: self.energy.charge is not None and self.energy.charge >= e.charge_to,
+                            self._not_charging)
+        return Sequence("home to charge", memory=True, children=[*to_dock, charged, Do("charged", self._charged)]), True
+
+    def _battery_end(self, why: str) -> None:
+        left = [p.id for p in self.mission.pots if not self.visits[p.id].done]
+        self.notes["battery"] = f"{why}: the patrol ends at the dock with {len(left)} pot(s) left ({', '.join(left)})"
+
+    def _docked(self) -> None:
+        self.legs.returned()
+        self._on_dock_since = self.clock.now()
+
+    def _charged(self) -> None:
+        self.legs.charged()
+        self.energy.why_home = ""
+
+    def _not_charging(self) -> str | None:
+        """Why waiting on the dock is pointless: no current into the pack for a while."""
+        now = self.clock.now()
+        if self.energy.charging:
+            self._on_dock_since = now
+            return None
+        if now - self._on_dock_since < self.config.energy.charge_start_timeout:
+            return None
+        why = f"no current into the pack for {self.config.energy.charge_start_timeout:g} s on the dock: not charging"
+        self._battery_end(why)
+        return why
 
     def _build(self) -> Behaviour:
         c, note = self.config, self.notes.__setitem__
@@ -223,8 +335,7 @@ class PatrolTree:
                       lambda: self.nav.readiness.overdue(self.clock.now()) and self.nav.readiness.status(self.clock.now())),
             self._or_note("arm to travel", self._arm("arm to travel", self._travel), lambda reason: note("arm", reason)),
         ])
-        pots = Sequence("pots", memory=True, children=[self._pot(p) for p in self.order]
-                        + [self._pot(p, later=True) for p in self.order])
+        pots = Legs("pots", self, self.legs)
         watch = WatchTags("watch tags", self.cameras["front"], self.tag_reader,
                           lambda frame, reads: self.report.saw(reads, self.nav.map_pose()),
                           self.nav.map_pose, c.watch_spacing, c.watch_turn)

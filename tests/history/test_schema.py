@@ -27,7 +27,7 @@ def test_a_new_database_is_built_to_the_latest_version_with_the_spec_tables(tmp_
     h = open_history(str(tmp_path / "h.db"))
     assert h.version() == LATEST >= 2
     insp = inspect(h.engine)
-    for table in (schema.patrols, schema.observations, schema.schema_version):
+    for table in (schema.patrols, schema.observations, schema.schema_version, schema.legs):
         assert {c["name"] for c in insp.get_columns(table.name)} == set(table.c.keys())  # migrations == schema.py
     assert SPEC_PATROLS <= set(schema.patrols.c.keys())
     assert SPEC_OBSERVATIONS <= set(schema.observations.c.keys())
