@@ -140,6 +140,7 @@ def test_postgresql_answers_every_page_as_sqlite_does(client, pg_url, tmp_path):
     on_pg = TestClient(make_app(pg, None, Sessions(None)))
     for url in ("/api/greenhouse", "/api/pots/P01", "/api/patrols", "/api/patrols/2", "/api/alerts"):
         assert _same(client.get(url).json(), on_pg.get(url).json()), url
+    assert on_pg.get("/export.csv").text.replace("/pg-runs/", "/runs/") == client.get("/export.csv").text
     pg.close()
 
 
