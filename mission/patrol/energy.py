@@ -197,6 +197,14 @@ class EnergyBudget:
         return (f"charge {self.charge:.0%} is falling faster than planned: the way back ({back:.0f} m) would "
                 f"leave {max(at_dock, 0.0):.0%} at the dock, below the {self.config.reserve:.0%} reserve")
 
+    def reachable(self, here: tuple[float, float]) -> bool:
+        """The dock is within what the pack holds from ``here``, as the model expects (no margin,
+        no reserve): else the robot stops clear of the aisles instead (``mission.patrol.parking``)."""
+        if self.charge is None:
+            return True
+        back, = self.lengths(self.dock, np.array([here]))
+        return bool(self.charge - self.way(float(back)) > 0.0)
+
     def figures(self) -> dict:
         """The report's ``energy``: the charge, its lowest, and what the work was found to cost."""
         cap = self.pack.capacity_ah

@@ -96,6 +96,7 @@ from mission.patrol.holds import MissionHolds
 from mission.patrol.inspect_view import InspectView
 from mission.patrol.lidar_loss import LidarLoss
 from mission.patrol.mission_file import Mission, MissionPot
+from mission.patrol.parking import parking_spot
 from mission.patrol.pot_finder import PotFinder
 from mission.patrol.visit_order import visit_order
 from nav.path_lengths import lengths_from, path_lengths
@@ -154,6 +155,9 @@ class PatrolTree:
         self._gate_why = ""
         self._next_check = 0.0
         self._on_dock_since = 0.0
+        self.parked: Pose2D | None = None
+        self._stranded, self._next_reach = False, 0.0
+        """Where the robot stopped, clear of the aisles, when it could not reach the dock."""
         if self.holds is None:
             self.holds = MissionHolds(self.robot.estop, self.clock.now, self.report.t0)
         self.lidar = LidarLoss(lambda: self.robot.monitor.untrusted_since, self.clock.now,
@@ -233,13 +237,41 @@ class PatrolTree:
         steps = [self._or_note("park arm", self._arm("arm to home", lambda: (preset("home"), "home")),
                                lambda reason: note("park", reason))]
         if self.mission.return_home:
-            steps[:0] = [self._home("return home", "drive home"), Do("on the dock", self.legs.returned)]
+            home = Sequence("home", memory=True, children=[self._or_note("return home", self._to_dock("drive home"),
+                                                                         lambda reason: note("home", reason)),
+                                                           Do("on the dock", self.legs.returned)])
+            steps.insert(0, Selector("unless parked", memory=True, children=[
+                Check("parked clear of the aisles?", lambda: self.parked is not None), home]))
         return Sequence(name, memory=True, children=steps)
 
-    def _home(self, name: str, drive: str) -> Selector:
+    def _to_dock(self, name: str) -> Retry:
         home = self.mission.home
-        return self._or_note(name, self._drive(drive, lambda: Pose2D(home.x, home.y, home.yaw)),
-                             lambda reason: self.notes.__setitem__("home", reason))
+        return self._drive(name, lambda: Pose2D(home.x, home.y, home.yaw))
+
+    def _park(self, why: str) -> Sequence:
+        """Out of the aisles and clear of their mouths (``mission.patrol.parking``), for a robot
+        that cannot reach its dock; the note says where it stands."""
+        spot: list[Pose2D] = []
+
+        def choose() -> str | None:
+            here = self.nav.map_pose()
+            found = parking_spot(self.nav.global_costmap.grid, (here.x, here.y), self.energy.lengths)
+            if found is None:
+                return "no place clear of the aisles within reach"
+            spot[:] = [Pose2D(found[0], found[1], here.yaw)]
+            return None
+
+        def parked() -> None:
+            here = self.nav.map_pose()
+            self.parked = here
+            self._battery_end(f"{why}; the dock is out of reach: stopped clear of the aisles at "
+                              f"({here.x:.1f}, {here.y:.1f}) in the map, {self.energy.charge or 0.0:.0%} left")
+
+        go = Sequence("park", memory=True, children=[Do("choose a spot clear of the aisles", choose),
+                                                      self._drive("drive clear of the aisles", lambda: spot[0])])
+        return Sequence("stop clear of the aisles", memory=True, children=[
+            self._or_note("clear of the aisles", go, lambda reason: self.notes.__setitem__("park_spot", reason)),
+            Do("parked", parked)])
 
     # --- legs (mission.patrol.legs.LegPlan) ------------------------------------------------
     def leg(self) -> Behaviour | None:
@@ -294,7 +326,17 @@ class PatrolTree:
             stop = f"{len(legs)} leg(s) done, the most allowed (--max-legs)"
         elif legs and legs[-1].pots == 0 and len(legs) > 1:
             stop = "a full charge did not reach one more pot"
-        to_dock = [self._home("return to the dock", "drive to the dock"), Do("on the dock", self._docked)]
+        here = self.nav.map_pose()
+        if not self.energy.reachable((here.x, here.y)):
+            return self._park(why), False
+        self._stranded, self._next_reach = False, 0.0
+        to_dock = [Selector("to the dock", memory=False, children=[
+            Sequence("stranded", memory=True, children=[Check("dock out of reach?", self._out_of_reach),
+                                                        self._park(why)]),
+            Selector("drive or park", memory=True, children=[
+                Sequence("drive to the dock", memory=True, children=[self._to_dock("drive to the dock"),
+                                                                     Do("on the dock", self._docked)]),
+                self._park(why)])])]
         if stop:
             self._battery_end(f"{why}; {stop}")
             return Sequence("home to stop", memory=True, children=to_dock), False
@@ -302,6 +344,16 @@ class PatrolTree:
                             lambda: self.energy.charge is not None and self.energy.charge >= e.charge_to,
                             self._not_charging)
         return Sequence("home to charge", memory=True, children=[*to_dock, charged, Do("charged", self._charged)]), True
+
+    def _out_of_reach(self) -> bool:
+        """Latched, checked every ``check_every`` s on the way home: the pack no longer holds the
+        way to the dock (it kept falling faster than the model said)."""
+        now = self.clock.now()
+        if not self._stranded and now >= self._next_reach:
+            self._next_reach = now + self.config.energy.check_every
+            here = self.nav.map_pose()
+            self._stranded = not self.energy.reachable((here.x, here.y))
+        return self._stranded
 
     def _battery_end(self, why: str) -> None:
         left = [p.id for p in self.mission.pots if not self.visits[p.id].done]

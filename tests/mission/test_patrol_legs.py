@@ -105,3 +105,16 @@ def test_no_charge_ends_at_the_dock_listing_the_rest_and_resume_patrols_exactly_
     second = tmp_path / "second" / "report.json"
     assert main(["patrol", "--resume", str(first), "--report", str(second), "--history", "none"]) == 0
     assert [(p["id"], p["status"]) for p in json.loads(second.read_text())["pots"]] == [(i, "inspected") for i in left]
+
+
+@pytest.mark.slow
+def test_a_robot_that_cannot_reach_the_dock_stops_clear_of_the_aisles_and_says_where(tmp_path):
+    drain = {"at": 5.0, "do": "battery_drain", "load": 30.0, "duration": 6.0}  # the pack all but empties
+    config = {"sim": {"battery": {"capacity_ah": 0.05}}}
+    doc, lowest, off_dock = patrol(tmp_path, config, [drain], ids=("P04",))
+    assert doc["outcome"] == "battery_low" and off_dock > 0.3
+    assert "stopped clear of the aisles at" in doc["notes"]["battery"]
+    x, y = (float(v) for v in doc["notes"]["battery"].split(" at (")[1].split(")")[0].split(", "))
+    world = load_default_world()  # map frame = world frame less the spawn (1.0, 0.5, yaw 0)
+    wx, wy = x + world.spawn.x, y + world.spawn.y
+    assert wx < 1.0 or wx > 6.0 or wy < 0.8  # not between the rows (pots at x 2..5), nor at an aisle's mouth
