@@ -115,9 +115,14 @@ def make_app(history: History, runs: Path | None, sessions: Sessions) -> Starlet
             raise HTTPException(400, f"{name}={text[:20]}: give a whole number from {lo} to {hi}")
         return value
 
+    def of_mission(page: pages.Page | None, request: Request) -> pages.Page:
+        if page is None:
+            raise HTTPException(404, f"mission {request.query_params['mission']}: no patrol of it in the history")
+        return page
+
     def greenhouse_page(request: Request) -> pages.Page:
         last = _int(request, "last", pages.PEST_LAST, 1, MAX_LAST)
-        return read(pages.greenhouse, runs, request.query_params.get("mission"), last)
+        return of_mission(read(pages.greenhouse, runs, request.query_params.get("mission"), last), request)
 
     def pot_page(request: Request) -> pages.Page:
         pot_id = request.path_params["pot_id"]
@@ -137,7 +142,7 @@ def make_app(history: History, runs: Path | None, sessions: Sessions) -> Starlet
         return page
 
     def alerts_page(request: Request) -> pages.Page:
-        return read(pages.alerts, request.query_params.get("mission"))
+        return of_mission(read(pages.alerts, request.query_params.get("mission")), request)
 
     PAGES = {"greenhouse": greenhouse_page, "pots": pot_page, "patrols": patrols_page, "patrol": patrol_page,
              "alerts": alerts_page}

@@ -67,11 +67,15 @@ def _flower(o: Observation) -> str:
     return "no bloom" if o.flower_color == "none" else f"{o.flower_color} x{o.blooms}"
 
 
-def greenhouse(conn: Connection, runs: Path | None, mission: str | None = None, last: int = PEST_LAST) -> Page:
+def greenhouse(conn: Connection, runs: Path | None, mission: str | None = None,
+               last: int = PEST_LAST) -> Page | None:
     """``/``: the latest patrol of a mission (default: the latest patrolled), its pots by last
-    result and pest pressure over the last ``last`` patrols, new pests marked, the trend."""
+    result and pest pressure over the last ``last`` patrols, new pests marked, the trend; None
+    when no patrol of ``mission`` is recorded."""
     known = queries.missions(conn)
-    mission = mission if mission in known else (known[0] if known else None)
+    if mission is not None and mission not in known:
+        return None
+    mission = mission or (known[0] if known else None)
     data: dict = {"missions": known, "mission": mission, "last": last, "latest": None, "before": None, "pots": [],
                   "pests_now": 0, "new_pests": [], "trend": [], "alerts": 0}
     if mission is None:
@@ -166,10 +170,13 @@ def patrol(conn: Connection, patrol_id: int, runs: Path | None) -> Page | None:
     return Page(data, {"rows": [{**r, "flower": _flower(o)} for r, o in zip(data["pots"], rows)]})
 
 
-def alerts(conn: Connection, mission: str | None = None) -> Page:
-    """``/alerts``: what needs a person after the latest patrol of a mission."""
+def alerts(conn: Connection, mission: str | None = None) -> Page | None:
+    """``/alerts``: what needs a person after the latest patrol of a mission; None when no
+    patrol of ``mission`` is recorded."""
     known = queries.missions(conn)
-    mission = mission if mission in known else (known[0] if known else None)
+    if mission is not None and mission not in known:
+        return None
+    mission = mission or (known[0] if known else None)
     data: dict = {"missions": known, "mission": mission, "latest": None, "before": None, "alerts": []}
     if mission is None:
         return Page(data)

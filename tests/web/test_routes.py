@@ -45,6 +45,8 @@ def test_an_unknown_pot_or_patrol_is_a_404_page_not_a_traceback(client):
     assert client.get("/patrols/99").status_code == 404 and client.get("/api/patrols/99").status_code == 404
     assert client.get("/patrols/abc").status_code == 404
     assert client.get("/?last=abc").status_code == 400
+    assert client.get("/api/alerts?mission=nope").json() == {"error": "mission nope: no patrol of it in the history"}
+    assert client.get("/?mission=nope").status_code == 404 and client.get("/?mission=m").status_code == 200
 
 
 def test_patrols_and_one_patrols_report(client):
@@ -150,3 +152,18 @@ def _same(a, b) -> bool:
 
     return json.dumps(a, sort_keys=True).replace("/runs/", "/X/") == json.dumps(b, sort_keys=True).replace(
         "/pg-runs/", "/X/")
+
+
+def test_an_empty_history_says_so_on_every_page(tmp_path):
+    from starlette.testclient import TestClient
+
+    from mission.history.store import open_history
+    from web.app import make_app
+    from web.auth import Sessions
+
+    h = open_history(str(tmp_path / "empty.db"))
+    c = TestClient(make_app(h, None, Sessions(None)))
+    assert c.get("/api/greenhouse").json()["mission"] is None and "No patrol recorded yet" in c.get("/").text
+    assert c.get("/api/alerts").json()["alerts"] == [] and "No patrol recorded yet" in c.get("/alerts").text
+    assert c.get("/api/patrols").json()["patrols"] == [] and c.get("/patrols").status_code == 200
+    h.close()
