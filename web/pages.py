@@ -26,9 +26,10 @@ PEST_LAST = 10
 """Patrols the greenhouse's pest pressure is counted over by default (``lupin history pests``)."""
 TREND_DAYS, TREND_POINTS = 28, 28
 """The pest trend: the last four weeks, at most one point a day's worth."""
-POT_TABLE, POT_PICTURES = 60, 8
+POT_TABLE, POT_PICTURES, POT_LOOK = 60, 8, 30
 """A pot's page lists its newest 60 observations (all of them in its CSV and JSON) and the
-pictures of its newest 8 patrols, side by side."""
+pictures of its newest 8 patrols whose pictures are still there, side by side, looking back
+over its newest 30 (each a look at the disk)."""
 PATROLS_PER_PAGE = 50
 LISTED = 200
 """The greenhouse lists the pots to look at (new pests first, then pests by pressure, then
@@ -116,18 +117,16 @@ def pot(conn: Connection, pot_id: str, runs: Path | None, mission: str | None = 
     entries = [e.as_json() for e in timeline]
     newest = entries[::-1]
     shown = []
-    for e in timeline[::-1]:
+    for e in timeline[::-1][:POT_LOOK]:
         o = e.observation
-        if len(shown) >= POT_PICTURES:
-            break
-        if o.front_image or o.wrist_image:
-            where = report_dir(o.wrist_image or o.front_image, runs)
-            shown.append({"patrol": e.patrol, "when": iso(e.started_at),
-                          "wrist": image_url(e.patrol, o.wrist_image)
-                          if served_file(where, Path(o.wrist_image or "").name) else None,
-                          "front": image_url(e.patrol, o.front_image)
-                          if served_file(where, Path(o.front_image or "").name) else None,
+        where = report_dir(o.wrist_image or o.front_image, runs)
+        wrist, front = (image_url(e.patrol, path) if path and served_file(where, Path(path).name) else None
+                        for path in (o.wrist_image, o.front_image))
+        if wrist or front:
+            shown.append({"patrol": e.patrol, "when": iso(e.started_at), "wrist": wrist, "front": front,
                           "flower": _flower(o), "pest": o.bug})
+        if len(shown) == POT_PICTURES:
+            break
     chart = charts.pot_chart([{"started_at": e.started_at, "blooms": e.observation.blooms, "bug": e.observation.bug,
                                "status": e.observation.status, "when": iso(e.started_at)} for e in timeline])
     latest = timeline[-1].observation
