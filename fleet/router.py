@@ -10,8 +10,8 @@ table of spec/fleet.md "Security" (default deny; ``flows`` as seen by the router
     robot R     publish under lupin/R/**, answer queries on lupin/R/cmd/*, lupin/R/stop and
                 lupin/fleet/stop, hold the token lupin/R/alive, read lupin/fleet/**
     console     read everything under lupin/**, query any key (commands, stops, history),
-                see every robot's token
-    dispatcher  read every robot, write lupin/fleet/**, query lupin/*/cmd/** (send patrols)
+                see every robot's token; publish nothing, hold no token
+    dispatcher  what a console may, and write lupin/fleet/** (assignments, aisle locks)
     everyone    query lupin/*/stop and lupin/fleet/stop: stopping is never refused
 
 Releasing a stop is the command ``lupin/R/cmd/estop`` and commands are consoles' (and the
@@ -30,7 +30,6 @@ from mission.link.session import TlsFiles, session_config
 from mission.link.wire import FLEET_STOP, alive_key
 
 DEFAULT_LISTEN = "tls/0.0.0.0:7447"
-LIVELINESS = ["liveliness_token", "liveliness_query", "declare_liveliness_subscriber"]
 
 
 def _rule(rid: str, messages: list[str], flows: list[str], keys: list[str]) -> dict:
@@ -38,39 +37,47 @@ def _rule(rid: str, messages: list[str], flows: list[str], keys: list[str]) -> d
 
 
 def access_control(members: Members) -> dict:
-    """zenoh's ``access_control`` section for the fleet (module docstring's table)."""
+    """zenoh's ``access_control`` section for the fleet (module docstring's table). Each message
+    is allowed in the one direction it travels: ``ingress`` from its sender into the router,
+    ``egress`` from the router to its receiver, so reading never also grants writing."""
     rules, subjects, policies = [], [], []
     stops = ["lupin/*/stop", FLEET_STOP]
     for r in members.robots:
         own = f"lupin/{r}"
+        served = [f"{own}/cmd/**", f"{own}/stop", FLEET_STOP]
         rules += [
             _rule(f"{r}.publish", ["put", "delete"], ["ingress"], [f"{own}/**"]),
-            _rule(f"{r}.serve", ["declare_queryable"], ["ingress"], [f"{own}/cmd/**", f"{own}/stop", FLEET_STOP]),
-            _rule(f"{r}.asked", ["query"], ["egress"], [f"{own}/cmd/**", f"{own}/stop", FLEET_STOP]),
-            _rule(f"{r}.answer", ["reply"], ["ingress"], [f"{own}/cmd/**", f"{own}/stop", FLEET_STOP]),
+            _rule(f"{r}.serve", ["declare_queryable"], ["ingress"], served),
+            _rule(f"{r}.asked", ["query"], ["egress"], served),
+            _rule(f"{r}.answer", ["reply"], ["ingress"], served),
             _rule(f"{r}.alive", ["liveliness_token"], ["ingress"], [alive_key(r)]),
-            _rule(f"{r}.fleet", ["declare_subscriber", "put", "delete"], ["ingress", "egress"], ["lupin/fleet/**"]),
         ]
         subjects.append({"id": f"robot {r}", "cert_common_names": [r]})
-        policies.append({"rules": [f"{r}.{p}" for p in ("publish", "serve", "asked", "answer", "alive", "fleet")],
+        policies.append({"rules": [f"{r}.{p}" for p in ("publish", "serve", "asked", "answer", "alive")],
                          "subjects": [f"robot {r}"]})
-    readers = list(members.consoles) + ([members.dispatcher] if members.dispatcher else [])
     rules += [
-        _rule("read", ["declare_subscriber", "put", "delete"], ["ingress", "egress"], ["lupin/**"]),
-        _rule("command", ["query", "reply"], ["ingress", "egress"], ["lupin/**"]),
-        _rule("who", LIVELINESS, ["ingress", "egress"], ["lupin/**"]),
-        _rule("stop", ["query", "reply"], ["ingress", "egress"], stops),
-        _rule("dispatch", ["put", "delete"], ["ingress"], ["lupin/fleet/**"]),
+        _rule("subscribe", ["declare_subscriber"], ["ingress"], ["lupin/**"]),
+        _rule("receive", ["put", "delete"], ["egress"], ["lupin/**"]),
+        _rule("command", ["query"], ["ingress"], ["lupin/**"]),
+        _rule("answered", ["reply"], ["egress"], ["lupin/**"]),
+        _rule("who", ["declare_liveliness_subscriber", "liveliness_query"], ["ingress"], ["lupin/**"]),
+        _rule("who.told", ["liveliness_token"], ["egress"], ["lupin/**"]),
+        _rule("stop", ["query"], ["ingress"], stops),
+        _rule("stop.answered", ["reply"], ["egress"], stops),
+        _rule("fleet.read", ["declare_subscriber"], ["ingress"], ["lupin/fleet/**"]),
+        _rule("fleet.told", ["put", "delete"], ["egress"], ["lupin/fleet/**"]),
+        _rule("fleet.write", ["put", "delete"], ["ingress"], ["lupin/fleet/**"]),
     ]
+    reader = ["subscribe", "receive", "command", "answered", "who", "who.told"]
     if members.consoles:
         subjects.append({"id": "consoles", "cert_common_names": list(members.consoles)})
-        policies.append({"rules": ["read", "command", "who"], "subjects": ["consoles"]})
+        policies.append({"rules": reader, "subjects": ["consoles"]})
     if members.dispatcher:
         subjects.append({"id": "dispatcher", "cert_common_names": [members.dispatcher]})
-        policies.append({"rules": ["read", "command", "who", "dispatch"], "subjects": ["dispatcher"]})
+        policies.append({"rules": [*reader, "fleet.write"], "subjects": ["dispatcher"]})
     if members.robots:
         subjects.append({"id": "robots", "cert_common_names": list(members.robots)})
-        policies.append({"rules": ["stop"], "subjects": ["robots"]})
+        policies.append({"rules": ["stop", "stop.answered", "fleet.read", "fleet.told"], "subjects": ["robots"]})
     return {"enabled": True, "default_permission": "deny", "rules": rules, "subjects": subjects, "policies": policies}
 
 

@@ -87,7 +87,8 @@ def router(
     stop = threading.Event()
     previous = {s: signal.signal(s, lambda *_: stop.set()) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
-        stop.wait()
+        while not stop.wait(0.2):  # a timed wait: the signal may land on one of zenoh's threads, which
+            pass                   # would not wake a main thread blocked for good (its handler runs here)
     finally:
         for s, handler in previous.items():
             signal.signal(s, handler)
