@@ -1,7 +1,8 @@
 """The fleet's router: zenoh's own router mode, its config written from the fleet's members.
 
 ``lupin router`` opens a Zenoh session in ``router`` mode (the pip wheel runs as a router, so no
-``zenohd`` is needed; one installed works the same with ``router_config``'s JSON). It listens
+``zenohd`` is needed; one installed takes the same config: ``lupin router --write-config FILE``
+writes ``router_settings`` as JSON for ``zenohd -c FILE``). It listens
 on TLS by default, multicast scouting off, and only members whose certificate the fleet's
 authority signed connect (mutual TLS). Access control, by certificate common name, is the
 table of spec/fleet.md "Security" (default deny; ``flows`` as seen by the router)::
@@ -26,7 +27,7 @@ import zenoh
 
 from fleet.members import Members
 from hw.errors import InputError
-from mission.link.session import TlsFiles, session_config
+from mission.link.session import LEASE_MS, TlsFiles, tls_settings
 from mission.link.wire import FLEET_STOP, alive_key
 
 DEFAULT_LISTEN = "tls/0.0.0.0:7447"
@@ -81,17 +82,24 @@ def access_control(members: Members) -> dict:
     return {"enabled": True, "default_permission": "deny", "rules": rules, "subjects": subjects, "policies": policies}
 
 
-def router_config(listen: str, tls: TlsFiles | None, members: Members | None) -> zenoh.Config:
-    """The router's whole config: listen on ``listen`` (TLS with mutual authentication when
-    ``tls``), scouting off, and the fleet's access control when its members are known."""
-    conf = session_config("listen", listen, tls, zenoh_mode="router")
+def router_settings(listen: str, tls: TlsFiles | None, members: Members | None) -> dict:
+    """The router's whole config as zenoh reads it (``zenohd -c`` takes the same JSON): listen on
+    ``listen`` (TLS with mutual authentication when ``tls``), scouting off, the link's lease, and
+    the fleet's access control when its members are known."""
+    if tls is None and listen.startswith("tls/"):
+        raise InputError(f"{listen}: a tls/ endpoint needs the fleet's certificates (--certs DIR)")
+    link: dict = {"tx": {"lease": LEASE_MS}}
+    if tls is not None:
+        link["tls"] = tls_settings(tls, "listen")
+    conf = {"mode": "router", "listen": {"endpoints": [listen]}, "scouting": {"multicast": {"enabled": False}},
+            "transport": {"link": link}}
     if members is not None:
-        conf.insert_json5("access_control", json.dumps(access_control(members)))
+        conf["access_control"] = access_control(members)
     return conf
 
 
 def open_router(listen: str, tls: TlsFiles | None, members: Members | None) -> zenoh.Session:
     try:
-        return zenoh.open(router_config(listen, tls, members))
+        return zenoh.open(zenoh.Config.from_json5(json.dumps(router_settings(listen, tls, members))))
     except zenoh.ZError as exc:
         raise InputError(f"lupin router --listen {listen}: cannot listen there: {exc}") from None

@@ -8,6 +8,7 @@ and says so on every start.
 """
 from __future__ import annotations
 
+import json
 import signal
 import sys
 import threading
@@ -61,10 +62,12 @@ def router(
     listen: Optional[str] = typer.Option(None, "--listen", help="Endpoint to listen on (default tls/0.0.0.0:7447)."),
     certs: Optional[Path] = typer.Option(None, "--certs", help="The fleet's certificates (lupin fleet certs -o DIR)."),
     no_tls: bool = typer.Option(False, "--no-tls", help="Plain TCP, no access control: a bench on one machine only."),
+    write_config: Optional[Path] = typer.Option(None, "--write-config", metavar="FILE",
+                                                help="Write the router's config as JSON (for zenohd -c FILE) and exit."),
 ) -> None:
     """The fleet's Zenoh router: TLS with mutual authentication and access control by name."""
     from fleet.members import read_members
-    from fleet.router import DEFAULT_LISTEN, open_router
+    from fleet.router import DEFAULT_LISTEN, open_router, router_settings
     from mission.link.session import check_endpoint
 
     endpoint = check_endpoint(listen or (DEFAULT_LISTEN.replace("tls/", "tcp/") if no_tls else DEFAULT_LISTEN), "--listen")
@@ -73,14 +76,23 @@ def router(
             raise InputError("lupin router --no-tls: no --certs and no tls/ endpoint with it")
         print("lupin router: WARNING --no-tls: plain TCP and NO access control; anyone who reaches "
               f"{endpoint} can read and command every robot. A bench on one machine only.", file=sys.stderr, flush=True)
-        session = open_router(endpoint, None, None)
+        tls, members = None, None
     else:
         if not endpoint.startswith("tls/"):
             raise InputError(f"lupin router --listen {endpoint}: the router serves tls/ (or give --no-tls)")
         if certs is None:
             raise InputError("lupin router: give --certs DIR (lupin fleet certs -o DIR), or --no-tls for a bench")
         members = read_members(certs)
-        session = open_router(endpoint, tls_for(certs, "router", endpoint), members)
+        tls = tls_for(certs, "router", endpoint)
+    if write_config is not None:
+        try:
+            write_config.write_text(json.dumps(router_settings(endpoint, tls, members), indent=2) + "\n")
+        except OSError as exc:
+            raise InputError(f"--write-config {write_config}: cannot write it: {exc.strerror}") from None
+        print(f"lupin router: config for zenohd in {write_config} (zenohd -c {write_config})")
+        return
+    session = open_router(endpoint, tls, members)
+    if members is not None:
         print(f"lupin router: robots {', '.join(members.robots) or '(none)'}; consoles "
               f"{', '.join(members.consoles) or '(none)'}", flush=True)
     print(f"lupin router: listening on {endpoint}", flush=True)

@@ -54,8 +54,8 @@ def free_endpoint(proto: str = "tcp") -> str:
 def tls_settings(tls: TlsFiles, side: str) -> dict:
     """zenoh's ``transport.link.tls`` for one side (``listen`` or ``connect``): mutual TLS, the
     fleet's authority the only one trusted."""
-    return {"root_ca_certificate": str(tls.ca), "enable_mtls": True,
-            f"{side}_private_key": str(tls.key), f"{side}_certificate": str(tls.cert)}
+    return {"root_ca_certificate": str(tls.ca.absolute()), "enable_mtls": True,
+            f"{side}_private_key": str(tls.key.absolute()), f"{side}_certificate": str(tls.cert.absolute())}
 
 
 def session_config(mode: str, endpoint: str, tls: TlsFiles | None = None, *, zenoh_mode: str | None = None) -> zenoh.Config:

@@ -94,3 +94,21 @@ def test_fleet_console_bad_options_are_exit_2(capsys, args, words):
     assert main(["console", *args]) == 2
     err = capsys.readouterr().err
     assert words in err and "Traceback" not in err
+
+
+def test_the_routers_config_is_written_for_zenohd(certs, tmp_path, capsys):
+    import json
+
+    import zenoh
+
+    out = tmp_path / "router.json5"
+    assert main(["router", "--certs", str(certs), "--listen", "tls/0.0.0.0:7447", "--write-config", str(out)]) == 0
+    conf = json.loads(out.read_text())
+    zenoh.Config.from_json5(out.read_text())  # zenoh reads it
+    assert conf["mode"] == "router" and conf["listen"]["endpoints"] == ["tls/0.0.0.0:7447"]
+    assert conf["scouting"]["multicast"]["enabled"] is False
+    tls = conf["transport"]["link"]["tls"]
+    assert tls["enable_mtls"] is True and tls["listen_private_key"] == str((certs / "router.key").absolute())
+    acl = conf["access_control"]
+    assert acl["enabled"] and acl["default_permission"] == "deny"
+    assert {"id": "robot r2", "cert_common_names": ["r2"]} in acl["subjects"]
