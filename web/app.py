@@ -22,6 +22,7 @@ might ask of another host.
 """
 from __future__ import annotations
 
+import re
 from datetime import datetime
 from pathlib import Path
 from urllib.parse import parse_qs, quote
@@ -144,11 +145,11 @@ def make_app(history: History, runs: Path | None, sessions: Sessions) -> Starlet
     def alerts_page(request: Request) -> pages.Page:
         return of_mission(read(pages.alerts, request.query_params.get("mission")), request)
 
-    PAGES = {"greenhouse": greenhouse_page, "pots": pot_page, "patrols": patrols_page, "patrol": patrol_page,
-             "alerts": alerts_page}
+    builders = {"greenhouse": greenhouse_page, "pots": pot_page, "patrols": patrols_page, "patrol": patrol_page,
+                "alerts": alerts_page}
 
     def page_routes(path: str, api: str, kind: str, template: str) -> list[Route]:
-        build = PAGES[kind]
+        build = builders[kind]
 
         def as_html(request: Request) -> Response:
             page = build(request)
@@ -162,6 +163,7 @@ def make_app(history: History, runs: Path | None, sessions: Sessions) -> Starlet
         return [Route(path, as_html, name=kind), Route(api, as_json, name=f"api_{kind}")]
 
     def csv(name: str, filename: str, **only) -> Response:
+        filename = re.sub(r"[^A-Za-z0-9._-]", "_", filename)  # a pot id from the URL, into a header
         return StreamingResponse(csv_lines(history, name, **only), media_type="text/csv; charset=utf-8",
                                  headers={"content-disposition": f'attachment; filename="{filename}"'})
 

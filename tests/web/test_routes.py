@@ -75,6 +75,8 @@ def test_the_csv_export_is_the_same_rows_as_lupin_history_export(client, history
     rows = list(csv.DictReader(io.StringIO(client.get("/pots/P01/observations.csv").text)))
     assert [(r["patrol_id"], r["bug"]) for r in rows] == [("1", "false"), ("2", "true")]
     assert len(list(csv.DictReader(io.StringIO(client.get("/patrols/1/observations.csv").text)))) == 4
+    odd = client.get('/pots/a%22b%0Ac/observations.csv')
+    assert odd.status_code == 200 and odd.headers["content-disposition"] == 'attachment; filename="a_b_c.csv"'
 
 
 def test_only_plain_report_files_are_served(client):
