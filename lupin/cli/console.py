@@ -7,9 +7,12 @@ mission; with ``--sim`` the child service is stopped with the console (SIGTERM: 
 patrol is finished ``aborted``). ``--as NAME`` makes it a fleet's console (spec/fleet.md): the
 endpoint is the fleet's router, ``--certs DIR`` holds NAME's certificate for a ``tls/`` one, and
 every robot that is up is listed, keys 1-9 switch between them, ``E`` stops them all.
+``--gamepad /dev/input/eventN`` drives the robot shown from a pad on this machine, dead-man held
+(``tui.gamepad``).
 """
 from __future__ import annotations
 
+import errno
 import os
 import secrets
 import signal
@@ -35,6 +38,9 @@ def console(
     certs: Optional[Path] = typer.Option(None, "--certs", help="With --as and a tls/ router: the fleet's certificates."),
     as_name: Optional[str] = typer.Option(None, "--as", help="A fleet's console: this console's name in the fleet "
                                                              "(its certificate's); --connect is then the router."),
+    gamepad: Optional[Path] = typer.Option(None, "--gamepad", metavar="DEVICE",
+                                           help="Drive with a gamepad on this machine (Linux evdev, e.g. "
+                                                "/dev/input/event5): left bumper held, sticks drive."),
 ) -> None:
     """The operator console."""
     from mission.link.client import LinkClient
@@ -50,10 +56,11 @@ def console(
         raise InputError("lupin console: --as and --certs go with --connect (the fleet's router)")
     if as_name is not None:
         run_fleet_console(check_endpoint(connect, "--connect"), as_name, certs,
-                          token if token is not None else config.link.token)
+                          token if token is not None else config.link.token, gamepad)
         return
     if certs is not None:
         raise InputError("lupin console --certs: say who this console is with --as NAME")
+    fd = open_gamepad(gamepad)  # before a child service starts: a pad that cannot be read starts nothing
     child = None
     if sim:
         child, endpoint, token = start_child_service(world)
@@ -62,23 +69,50 @@ def console(
         token = token if token is not None else config.link.token
     client = LinkClient(endpoint, config.link.robot, clock=time.monotonic, token=token)
     try:
-        make_app(client.view, client).run()
+        run_with_gamepad(make_app(client.view, client), client, fd)
     finally:
         client.close()
         if child is not None:
             stop_child(child)
 
 
-def run_fleet_console(endpoint: str, name: str, certs: Path | None, token: str) -> None:
+def open_gamepad(path: Path | None) -> int | None:
+    """The pad's event device, opened (InputError naming it when it cannot be read)."""
+    if path is None:
+        return None
+    try:
+        return os.open(path, os.O_RDONLY | os.O_NONBLOCK)
+    except OSError as exc:
+        hint = " (is this user in the 'input' group?)" if exc.errno == errno.EACCES else ""
+        raise InputError(f"--gamepad {path}: cannot read it: {exc.strerror}{hint}") from None
+
+
+def run_with_gamepad(app, commands, fd: int | None) -> None:
+    """Run the console app, the pad (if any) driving through ``commands`` as long as it runs."""
+    from tui.gamepad import Gamepad
+    from tui.messages import CommandRefused
+
+    pad = Gamepad(fd, commands.send, lambda reason: app.post_message(CommandRefused("teleop", reason))).start() \
+        if fd is not None else None
+    try:
+        app.run()
+    finally:
+        if pad is not None:
+            pad.close()
+            os.close(fd)
+
+
+def run_fleet_console(endpoint: str, name: str, certs: Path | None, token: str, gamepad: Path | None = None) -> None:
     from fleet.certs import check_name
     from lupin.cli.fleet import tls_for
     from mission.link.fleet_link import FleetLink
     from tui.fleet_app import FleetConsoleApp
 
     tls = tls_for(certs, check_name(name, "--as"), endpoint)
+    fd = open_gamepad(gamepad)
     fleet = FleetLink(endpoint, clock=time.monotonic, tls=tls, token=token)
     try:
-        FleetConsoleApp(fleet).run()
+        run_with_gamepad(FleetConsoleApp(fleet), fleet, fd)
     finally:
         fleet.close()
 

@@ -148,8 +148,8 @@ class Service:
         self.run.abort()
         self._end("aborted", "aborted by the operator")
 
-    def teleop(self, vx: float, vy: float, wz: float) -> None:
-        self.robot.mux.publish(MANUAL, Twist(vx, vy, wz), self.now)
+    def teleop(self, vx: float, vy: float, wz: float, source: str = MANUAL) -> None:
+        self.robot.mux.publish(source, Twist(vx, vy, wz), self.now)
 
     def arm_preset(self, name: str) -> None:
         try:

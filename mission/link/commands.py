@@ -42,6 +42,9 @@ class TeleopArgs(_Args):
     vx: float = Field(0.0, ge=-1.0, le=1.0)
     vy: float = Field(0.0, ge=-1.0, le=1.0)
     wz: float = Field(0.0, ge=-3.0, le=3.0)
+    source: Literal["manual", "joy"] = "manual"
+    """The mux source: ``manual`` (the console's keys) or ``joy`` (its gamepad, the seed's
+    dead-man source: priority 100, 0.3 s)."""
 
 
 class ArmPresetArgs(_Args):

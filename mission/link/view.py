@@ -25,7 +25,7 @@ COMMANDS: dict[str, str] = {
     "pause": "",
     "mission_start": "mission: optional mission (spec/mission.md as a mapping); default every pot",
     "mission_abort": "",
-    "teleop": "vx, vy, wz: float (m/s, rad/s) on the 'manual' source",
+    "teleop": "vx, vy, wz: float (m/s, rad/s); source: manual (default) | joy (a gamepad's dead-man)",
     "arm_preset": "name: a preset (home, zero, tuck, inspect, ...)",
     "gripper": "action: open | close | angle, deg: float for angle (-30 open .. +30 closed)",
     "clear_map": "",

@@ -112,3 +112,9 @@ def test_the_routers_config_is_written_for_zenohd(certs, tmp_path, capsys):
     acl = conf["access_control"]
     assert acl["enabled"] and acl["default_permission"] == "deny"
     assert {"id": "robot r2", "cert_common_names": ["r2"]} in acl["subjects"]
+
+
+def test_a_gamepad_that_cannot_be_read_is_exit_2(capsys, tmp_path):
+    assert main(["console", "--connect", "tcp/127.0.0.1:1", "--gamepad", str(tmp_path / "event99")]) == 2
+    err = capsys.readouterr().err
+    assert "--gamepad" in err and "event99" in err and "Traceback" not in err
