@@ -40,6 +40,8 @@ def test_a_bad_mission_file_is_exit_2_before_the_robot_moves(tmp_path, capsys):
     (["--backend", "hw"], ["--mission"]),
     (["--backend", "tractor"], ["--backend"]),
     (["--seed", "x"], ["--seed"]),
+    (["--max-legs", "0"], ["--max-legs"]),
+    (["--resume", "no/such/report.json"], ["no/such/report.json", "not found"]),
 ])
 def test_bad_options_are_exit_2_with_one_line(tmp_path, monkeypatch, capsys, args, words):
     monkeypatch.chdir(tmp_path)
