@@ -25,6 +25,7 @@ from textual import work
 from textual.app import App
 
 from mission.link.view import Commands, RobotView
+from tui import calibration
 from tui.keys import BINDINGS, DRIVE
 from tui.history_marks import PEST_PATROLS, pot_marks
 from tui.messages import CommandRefused, HistoryRead, SnapshotTaken, TimelineRead
@@ -143,6 +144,24 @@ class ConsoleApp(App):
         for screen in self.screen_stack:
             if isinstance(screen, Timeline) and screen.pot == message.pot:
                 screen.show_answer(message.answer, message.error)
+
+    # --- the arm's calibration (the command palette: tui.calibration) -------------------------
+    def get_system_commands(self, screen):
+        yield from super().get_system_commands(screen)
+        if getattr(self.commands, "ask", None) is not None:
+            yield from calibration.commands(self.calibrate)
+
+    @work(thread=True, group="calibration")
+    def calibrate(self, action: str) -> None:
+        try:
+            answer, refused = self.commands.ask("arm_calibrate", action=action)
+        except Exception as exc:  # a broken link must not take the console down
+            answer, refused = None, f"arm_calibrate: {type(exc).__name__}: {exc}"
+        if refused:
+            self.post_message(CommandRefused("arm_calibrate", refused))
+            return
+        for line in calibration.lines(answer):
+            self.call_from_thread(self.main.log_panel.say, line)
 
     # --- talking to the robot (worker threads) ---------------------------------------------
     def _deliver(self, command: str, args: dict[str, Any]) -> str | None:

@@ -11,12 +11,13 @@ from __future__ import annotations
 
 import logging
 import threading
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Callable
 
 from sqlalchemy.exc import SQLAlchemyError
 
+from arm.calibration import Calibration, CalibrationError
 from arm.controller import ArmUnavailable
 from arm.limits import GRIPPER_CLOSED_DEG, GRIPPER_OPEN_DEG
 from arm.presets import UnknownPreset
@@ -71,6 +72,7 @@ class Service:
     """Where every patrol it runs is recorded (``mission.history``); None: nowhere."""
     world: str | None = None
     """The sim world's name, for the history; None on the robot."""
+    _calibration: Calibration | None = None
     _writing: list[PatrolRecorder] = field(default_factory=list)
     _count: int = 0
 
@@ -177,6 +179,26 @@ class Service:
         if not healed.healed:
             raise CommandRefused(f"heal: {healed.message}")
 
+    def arm_calibrate(self, action: str) -> bytes:
+        """The arm's zero-offset calibration (``arm.calibration``, the seed's start / commit /
+        cancel / status) as JSON. The first call builds it on the robot's servo bus (the sim's
+        refuses: hardware only) and gives it the arm's beat, which samples while it commits."""
+        if self._calibration is None:
+            try:
+                self._calibration = Calibration(self.robot.hal.servos, self.config.hw.servos, self.config.arm.calibration,
+                                                arm=self.robot.arm, log=log)
+            except CalibrationError as exc:
+                raise CommandRefused(f"arm_calibrate: {exc}") from None
+            self.robot.scheduler.every("arm.calibration", self.config.arm.reassert.rate, self._calibration.tick)
+        cal = self._calibration
+        try:
+            status = {"start": cal.start, "commit": lambda: cal.commit(self.now), "cancel": cal.cancel,
+                      "status": cal.status}[action]()
+        except CalibrationError as exc:
+            raise CommandRefused(f"arm_calibrate {action}: {exc}") from None
+        return dumps({"phase": status.phase.value, "joints": list(status.joints), "note": status.note,
+                      "outcomes": [asdict(o) for o in status.outcomes]})
+
     def history_query(self, query: str, **args) -> bytes:
         """A question to the patrol history (``mission.history.answers``) as JSON. Called on the
         link's thread, not the runtime's: it reads the database only (its own connections)."""
@@ -208,11 +230,11 @@ def run_service(service: Service, stop: threading.Event, on_close: Callable[[], 
 
 
 def start_hw_service(config: LupinConfig, runs: Path, wall_now: Callable[[], float],
-                     history: History | None = None, monitor_off: bool = False) -> Service:
+                     history: History | None = None, monitor_off: bool = False, **boundaries) -> Service:
     """The service on the robot's devices (a missing one is a clear error before anything
     moves). There is no world to patrol by default: ``mission_start`` needs a mission.
-    ``monitor_off``: ``--no-collision-monitor``."""
-    rt = start_hw_runtime(config, monitor_off)
+    ``monitor_off``: ``--no-collision-monitor``; ``boundaries``: see ``start_hw_runtime``."""
+    rt = start_hw_runtime(config, monitor_off, **boundaries)
 
     def no_default() -> Mission:
         raise CommandRefused("mission_start: the robot has no built-in mission; send one (spec/mission.md)")

@@ -144,16 +144,20 @@ class LinkClient:
         data, error = self._query("snapshot", {"camera": camera})
         return data if error is None else None
 
-    def history(self, query: str, **args) -> tuple[dict | None, str | None]:
-        """Ask the robot's patrol history (``mission.history.answers``): (answer, None) or
-        (None, why not)."""
-        data, error = self._query("history", {"query": query, **args})
+    def ask(self, command: str, /, **args) -> tuple[dict | None, str | None]:
+        """A command the robot answers with JSON (``history``, ``arm_calibrate``): (answer, None)
+        or (None, why not)."""
+        data, error = self._query(command, args)
         if error is not None:
             return None, error
         try:
             return json.loads(data), None
         except (ValueError, TypeError):
-            return None, "history: the robot's answer is not JSON"
+            return None, f"{command}: the robot's answer is not JSON"
+
+    def history(self, query: str, **args) -> tuple[dict | None, str | None]:
+        """Ask the robot's patrol history (``mission.history.answers``)."""
+        return self.ask("history", query=query, **args)
 
     def close(self) -> None:
         self._sub.undeclare()

@@ -60,6 +60,10 @@ class SnapshotArgs(_Args):
     camera: Literal["front", "wrist"] = "front"
 
 
+class ArmCalibrateArgs(_Args):
+    action: Literal["start", "commit", "cancel", "status"]
+
+
 class HistoryArgs(_Args):
     query: Literal["patrols", "pot", "changes", "pests"]
     pot: Optional[str] = Field(None, min_length=1, max_length=64)
@@ -72,6 +76,7 @@ SCHEMAS: dict[str, type[_Args]] = {
     "estop": EStopArgs, "resume": NoArgs, "pause": NoArgs, "mission_start": MissionStartArgs,
     "mission_abort": NoArgs, "teleop": TeleopArgs, "arm_preset": ArmPresetArgs, "gripper": GripperArgs,
     "clear_map": NoArgs, "heal": NoArgs, "snapshot": SnapshotArgs, "history": HistoryArgs,
+    "arm_calibrate": ArmCalibrateArgs,
 }
 MAX_PAYLOAD = 64 * 1024
 """Bytes: a mission of a few hundred pots fits; anything bigger is not a command."""

@@ -83,9 +83,12 @@ class FleetLink:
         c = self._current()
         return c.snapshot(camera) if c is not None else None
 
-    def history(self, query: str, **args) -> tuple[dict | None, str | None]:
+    def ask(self, command: str, /, **args) -> tuple[dict | None, str | None]:
         c = self._current()
-        return c.history(query, **args) if c is not None else (None, f"history: {NONE_UP}")
+        return c.ask(command, **args) if c is not None else (None, f"{command}: {NONE_UP}")
+
+    def history(self, query: str, **args) -> tuple[dict | None, str | None]:
+        return self.ask("history", query=query, **args)
 
     def stop_fleet(self) -> list[str]:
         """Engage every robot's soft stop; the robots that answered."""

@@ -27,12 +27,13 @@ class HwRuntime:
         self.backend.close()
 
 
-def start_hw_runtime(config: LupinConfig, monitor_off: bool = False) -> HwRuntime:
+def start_hw_runtime(config: LupinConfig, monitor_off: bool = False, **boundaries) -> HwRuntime:
     """``monitor_off``: the command's ``--no-collision-monitor`` (the only way to run the robot
-    without the collision monitor; a config that turns it off is refused before a device opens)."""
+    without the collision monitor; a config that turns it off is refused before a device opens).
+    ``boundaries``: ``HwBackend``'s I2C bus and GPIO requests (the device emulators, in tests)."""
     check_monitor_switch(config, True, monitor_off)
     state = state_directory(config.runtime, "hw")  # before any device opens: no latch, no start
-    backend = HwBackend(config.hw)
+    backend = HwBackend(config.hw, **boundaries)
     try:
         robot = build_robot(config, backend.hal, state=state, on_robot=True, monitor_off=monitor_off)
         robot.start()
