@@ -72,6 +72,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Callable
 
+import numpy as np
 import py_trees
 from py_trees.behaviour import Behaviour
 from py_trees.common import OneShotPolicy, ParallelPolicy, Status
@@ -146,8 +147,7 @@ class PatrolTree:
         self.detector = FlowerDetector(self.robot.config.perception.flower)
         home = self.mission.home
         self.energy = EnergyBudget(self.config.energy, self.robot.config.sim.battery, self.robot.config.nav.mppi.vx_max,
-                                   (home.x, home.y), lambda origin, points: lengths_from(self.nav.global_costmap.grid,
-                                                                                         origin, points))
+                                   (home.x, home.y), self._lengths_from)
         self.legs = LegLog(lambda: self.clock.now() - self.report.t0, lambda: self.energy.charge)
         self.report.observers.append(LegsSection(self.legs, self.energy))
         self.order = self._order(self.mission.pots)
@@ -174,6 +174,16 @@ class PatrolTree:
         here = self.nav.map_pose()
         return visit_order(self.mission.model_copy(update={"pots": pots}), (here.x, here.y),
                            lambda points: path_lengths(self.nav.global_costmap.grid, points))
+
+    def _lengths_from(self, origin: tuple[float, float], points: np.ndarray) -> np.ndarray:
+        """The planner's path lengths from ``origin`` to ``points`` over the whole map (its
+        corners are taken in: the way home may leave the box round the two ends, through a
+        doorway at the greenhouse's far side)."""
+        grid = self.nav.global_costmap.grid
+        x0, x1, y0, y1 = grid.geometry.extent
+        corners = np.array([[x0, y0], [x1, y1]])
+        points = np.asarray(points, dtype=float).reshape(-1, 2)
+        return lengths_from(grid, origin, np.vstack([points, corners]))[:len(points)]
 
     # --- goals ---------------------------------------------------------------------------
     def approach_goal(self, pot: MissionPot) -> Pose2D:
