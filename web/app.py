@@ -22,6 +22,7 @@ might ask of another host.
 """
 from __future__ import annotations
 
+import gc
 import re
 from datetime import datetime
 from pathlib import Path
@@ -92,6 +93,15 @@ class SignIn:
                 response = RedirectResponse("/login?next=" + quote(path + (f"?{query}" if query else "")), 303)
             return await response(scope, receive, with_headers)
         await self.app(scope, receive, with_headers)
+
+
+def freeze_heap() -> None:
+    """Before serving: what the process holds by now (the libraries, the engine) moves out of
+    the garbage collector's way (``gc.freeze``). A greenhouse page makes ~40,000 objects, which
+    sets off full collections; each walked the whole heap, 65 ms on every second or third page of
+    a year's greenhouse (CPU 90 ms a page, 155 on those)."""
+    gc.collect()
+    gc.freeze()
 
 
 def make_app(history: History, runs: Path | None, sessions: Sessions) -> Starlette:

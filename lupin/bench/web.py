@@ -44,10 +44,11 @@ PAGES = ("greenhouse", "pot", "patrols", "patrol", "alerts", "greenhouse_json")
 
 @contextmanager
 def serving(history: History, runs: Path | None = None):
-    """``lupin web``'s app (open: no sign-in) under uvicorn on a free loopback port; its URL."""
+    """``lupin web``'s app (open: no sign-in) under uvicorn on a free loopback port, the heap
+    frozen as ``lupin web`` freezes it; its URL."""
     import uvicorn
 
-    from web.app import make_app
+    from web.app import freeze_heap, make_app
     from web.auth import Sessions
 
     with socket.socket() as s:
@@ -55,6 +56,7 @@ def serving(history: History, runs: Path | None = None):
         port = s.getsockname()[1]
     server = uvicorn.Server(uvicorn.Config(make_app(history, runs, Sessions(None)), host="127.0.0.1", port=port,
                                            log_level="warning", access_log=False))
+    freeze_heap()  # as lupin web does
     thread = threading.Thread(target=server.run, daemon=True)
     thread.start()
     until = time.monotonic() + 30

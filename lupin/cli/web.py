@@ -92,9 +92,10 @@ def web(
     store_ = open_for_reading(ctx, history)
     import uvicorn
 
-    from web.app import make_app
+    from web.app import freeze_heap, make_app
 
     app = make_app(store_, runs, Sessions(stored))
+    freeze_heap()
     shown = f"[{host}]" if ":" in host else host
     print(f"lupin web: http://{shown}:{port}/ (history {store_.shown}"
           f"{f', reports also under {runs}' if runs else ''}; {'open' if open_ else 'password'}; ctrl+c stops)",
