@@ -27,7 +27,7 @@ import zenoh
 
 from fleet.members import Members
 from hw.errors import InputError
-from mission.link.session import LEASE_MS, TlsFiles, tls_settings
+from mission.link.session import TlsFiles, tls_settings
 from mission.link.wire import FLEET_STOP, alive_key
 
 DEFAULT_LISTEN = "tls/0.0.0.0:7447"
@@ -84,15 +84,13 @@ def access_control(members: Members) -> dict:
 
 def router_settings(listen: str, tls: TlsFiles | None, members: Members | None) -> dict:
     """The router's whole config as zenoh reads it (``zenohd -c`` takes the same JSON): listen on
-    ``listen`` (TLS with mutual authentication when ``tls``), scouting off, the link's lease, and
-    the fleet's access control when its members are known."""
+    ``listen`` (TLS with mutual authentication when ``tls``), scouting off, and the fleet's
+    access control when its members are known."""
     if tls is None and listen.startswith("tls/"):
         raise InputError(f"{listen}: a tls/ endpoint needs the fleet's certificates (--certs DIR)")
-    link: dict = {"tx": {"lease": LEASE_MS}}
+    conf = {"mode": "router", "listen": {"endpoints": [listen]}, "scouting": {"multicast": {"enabled": False}}}
     if tls is not None:
-        link["tls"] = tls_settings(tls, "listen")
-    conf = {"mode": "router", "listen": {"endpoints": [listen]}, "scouting": {"multicast": {"enabled": False}},
-            "transport": {"link": link}}
+        conf["transport"] = {"link": {"tls": tls_settings(tls, "listen")}}
     if members is not None:
         conf["access_control"] = access_control(members)
     return conf

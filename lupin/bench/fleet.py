@@ -19,13 +19,16 @@ command, the fleet stop), every one checked in the robot's own telemetry: nothin
 
 ``fleet.join``: from r1's link opening (its session to the router, its liveliness token) to the
 console listing it, over ``JOIN_TRIALS`` joins; and from a ``lupin serve`` robot's SIGKILL to the
-console dropping it, over ``DEATH_TRIALS`` deaths. Goal: 1 s each. ``process_start`` is from
+console dropping it, over ``DEATH_TRIALS`` deaths; before each death the robot is frozen
+(SIGSTOP: its socket open and silent, as a robot off the network) and ``silence`` is the time to
+the console dropping it (its lease, ``mission.link.session.ROBOT_LEASE_MS``). Goal: 1 s each. ``process_start`` is from
 spawning ``lupin serve`` to the console listing it: the runtime's own start-up (the simulator,
 SLAM) comes first, and the link joins once it is built.
 """
 from __future__ import annotations
 
 import os
+import signal
 import subprocess
 import sys
 import tempfile
@@ -166,6 +169,7 @@ def join(config: LupinConfig) -> Sample:
     joins: list[float] = []
     deaths: list[float] = []
     starts: list[float] = []
+    silences: list[float] = []
     missed: list[str] = []
     with fleet_files() as (certs, tmp):
         router = free_endpoint("tls")
@@ -200,6 +204,15 @@ def join(config: LupinConfig) -> Sample:
                     continue
                 starts.append((time.perf_counter() - spawned) * 1000.0)
                 t0 = time.perf_counter()
+                os.kill(child.pid, signal.SIGSTOP)  # silent first: hung, or off the network
+                if _wait(lambda: "r2" not in roster.robots(), 5.0):
+                    silences.append((time.perf_counter() - t0) * 1000.0)
+                else:
+                    missed.append(f"silence {i + 1}: still listed 5 s after SIGSTOP")
+                os.kill(child.pid, signal.SIGCONT)
+                if not _wait(lambda: "r2" in roster.robots(), 10.0):
+                    missed.append(f"death {i + 1}: r2 not listed again after SIGCONT")
+                t0 = time.perf_counter()
                 child.kill()
                 if _wait(lambda: "r2" not in roster.robots(), 5.0):
                     deaths.append((time.perf_counter() - t0) * 1000.0)
@@ -213,7 +226,8 @@ def join(config: LupinConfig) -> Sample:
         return {"median_ms": round(float(np.median(v)), 1), "p95_ms": round(float(np.percentile(v, 95)), 1),
                 "max_ms": round(max(v), 1), "n": len(v)} if v else {"n": 0}
 
-    return Sample(joins + deaths, {"join": stats(joins), "death": stats(deaths), "process_start": stats(starts),
+    return Sample(joins + deaths, {"join": stats(joins), "death": stats(deaths), "silence": stats(silences),
+                                   "process_start": stats(starts),
                                    "attempted_joins": JOIN_TRIALS,
                                    "attempted_deaths": DEATH_TRIALS, "failures": missed})
 

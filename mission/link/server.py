@@ -26,7 +26,8 @@ import zenoh
 from mission.link.commands import CommandRefused, parse_command
 from mission.link.config import LinkConfig
 from mission.link.outbox import Outbox
-from mission.link.session import TlsFiles, check_endpoint, free_endpoint, open_session, session_config
+from mission.link.session import (ROBOT_LEASE_MS, TlsFiles, check_endpoint, free_endpoint, open_session,
+                                  session_config)
 from mission.link.telemetry import LinkLogHandler, Telemetry
 from mission.link.wire import FLEET_STOP, alive_key, cmd_key, dumps, stop_key
 
@@ -57,7 +58,8 @@ class LinkServer:
         self.service, self.config, self.token = service, config, token
         mode, option = ("connect", "--connect") if connect else ("listen", "--listen")
         self.endpoint = check_endpoint(connect or endpoint or config.listen, option)
-        self.session = open_session(session_config(mode, self.endpoint, tls), mode, self.endpoint, option)
+        lease = ROBOT_LEASE_MS if connect else None  # on a router: gone within a second if it falls silent
+        self.session = open_session(session_config(mode, self.endpoint, tls, lease_ms=lease), mode, self.endpoint, option)
         self.outbox = Outbox(self.session.put, config.queue)
         self.telemetry = Telemetry(service, self.outbox, config.robot)
         self._inbox: queue.SimpleQueue[_Pending] = queue.SimpleQueue()

@@ -18,11 +18,13 @@ import zenoh
 
 from hw.errors import InputError
 
-LEASE_MS = 1000
-"""A connection to the router (or a robot) silent this long is dead, and its liveliness token
-goes with it: spec/fleet.md's "within a second" for a robot that drops off the network, not just
-one whose process ends (a closed socket is seen at once). zenoh's default is 10 s; keep-alives go
-four times a lease (zenoh's ``keep_alive``), a few bytes each."""
+ROBOT_LEASE_MS = 800
+"""A robot on a router announces this lease: silent this long, the router takes it for dead and its
+liveliness token goes, spec/fleet.md's "within a second" for a robot that drops off the network or
+hangs, not just one whose process ends (a closed socket is seen at once). zenoh's default is 10 s
+(measured: a frozen robot stayed listed 10.0 s; with 1000 ms, 0.99-1.01 s: too close to the
+second); the robot sends keep-alives four times a lease (zenoh's ``keep_alive``), a few bytes each. Consoles keep the default: a console on a busy laptop
+should not lose its link over a late keep-alive."""
 
 ENDPOINT = re.compile(r"^(tcp|udp|tls|quic|ws|unixsock-stream)/\S+$")
 
@@ -58,17 +60,17 @@ def tls_settings(tls: TlsFiles, side: str) -> dict:
             f"{side}_private_key": str(tls.key.absolute()), f"{side}_certificate": str(tls.cert.absolute())}
 
 
-def session_config(mode: str, endpoint: str, tls: TlsFiles | None = None, *, zenoh_mode: str | None = None) -> zenoh.Config:
-    """An explicit Zenoh config: ``listen`` (a peer, or ``zenoh_mode``) or ``connect`` (a
-    client), no multicast scouting; ``tls`` for a ``tls/`` endpoint."""
+def session_config(mode: str, endpoint: str, tls: TlsFiles | None = None, *, lease_ms: int | None = None) -> zenoh.Config:
+    """An explicit Zenoh config: ``listen`` (a peer) or ``connect`` (a client), no multicast
+    scouting; ``tls`` for a ``tls/`` endpoint; ``lease_ms``: the lease it announces."""
     if tls is None and endpoint.startswith("tls/"):
         raise InputError(f"{endpoint}: a tls/ endpoint needs the fleet's certificates (--certs DIR)")
     conf = zenoh.Config()
-    conf.insert_json5("mode", json.dumps(zenoh_mode or ("peer" if mode == "listen" else "client")))
+    conf.insert_json5("mode", json.dumps("peer" if mode == "listen" else "client"))
     conf.insert_json5(f"{mode}/endpoints", json.dumps([endpoint]))
     conf.insert_json5("scouting/multicast/enabled", "false")
-    if mode == "connect" or zenoh_mode == "router":
-        conf.insert_json5("transport/link/tx/lease", str(LEASE_MS))
+    if lease_ms is not None:
+        conf.insert_json5("transport/link/tx/lease", str(lease_ms))
     if tls is not None:
         conf.insert_json5("transport/link/tls", json.dumps(tls_settings(tls, mode)))
     return conf

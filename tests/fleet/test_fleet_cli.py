@@ -1,8 +1,10 @@
 """The fleet as a user starts it: `lupin router --certs`, `lupin serve --robot r1 --connect tls/...
---certs`, a console as ``ops``; a robot killed (SIGKILL: no goodbye) is off the console's list
-within a second."""
+--certs`, a console as ``ops``; a robot that falls silent (SIGSTOP: its socket open, nothing on
+it) and one killed (SIGKILL: no goodbye) are off the console's list within a second."""
 from __future__ import annotations
 
+import os
+import signal
 import time
 
 import pytest
@@ -29,6 +31,12 @@ def test_router_serve_and_console_from_the_command_line_and_a_killed_robot_goes_
             assert wait_for(lambda: console.robots() == ["r1"], 10)
             assert wait_for(lambda: console.view().connected and console.view().controllers, 30)
             assert console.send("arm_preset", name="tuck") is None  # no token: the router says who commands
+            os.kill(robot.pid, signal.SIGSTOP)  # hung, or off the network: its socket stays open, silent
+            try:
+                assert wait_for(lambda: console.robots() == [], 1.0), "a silent robot stayed listed over a second"
+            finally:
+                os.kill(robot.pid, signal.SIGCONT)
+            assert wait_for(lambda: console.robots() == ["r1"], 10)  # back when it speaks again
             robot.kill()
             t0 = time.monotonic()
             assert wait_for(lambda: console.robots() == [], 1.0), "a killed robot stayed listed over a second"
