@@ -56,6 +56,10 @@ MOVING_M = 0.02
 TURNING_RAD = 0.05
 POT_TURN = math.pi
 """Radians turned at a pot (facing it from the aisle, then back along it)."""
+RECHECK_M = 2.0
+"""The way back to the dock is measured again (a wavefront over the map, ~10-25 ms on a 60 m
+greenhouse) once the robot is this far from where it was last measured, m; in between it is
+that length plus the straight distance since, never less than the way is."""
 
 
 @dataclass
@@ -88,6 +92,8 @@ class EnergyBudget:
         self.driven = 0.0
         """Metres driven (odometry) since the start."""
         self._planned: tuple[float, float] | None = None
+        self._back: tuple[float, float, float] | None = None
+        """The last measured way back to the dock: (x, y, metres)."""
         self.charge: float | None = None
         """The pack's charge, 0..1; None before the first reading."""
         self.lowest: float | None = None
@@ -175,8 +181,7 @@ class EnergyBudget:
         the dock and the reserve left; else why the robot must head home now."""
         if self.charge is None:
             return ""
-        to_pot = float(self.lengths(here, np.array([pot]))[0])
-        back, = self.lengths(self.dock, np.array([pot]))
+        to_pot, back = (float(m) for m in self.lengths(pot, np.array([here, self.dock])))  # one wavefront
         self._planned = (to_pot, self.driven)
         need = self.config.margin * (self.way(to_pot + float(back)) + self.pot())
         self.projected = self.charge - need
@@ -185,13 +190,24 @@ class EnergyBudget:
         return (f"charge {self.charge:.0%}: the next pot and the way back ({to_pot + back:.0f} m) would "
                 f"leave {max(self.projected, 0.0):.0%} at the dock, below the {self.config.reserve:.0%} reserve")
 
+    def way_back(self, here: tuple[float, float]) -> float:
+        """Metres of the planner's path from ``here`` to the dock (at most ``RECHECK_M`` stale)."""
+        if self._back is not None:
+            x, y, metres = self._back
+            moved = math.hypot(here[0] - x, here[1] - y)
+            if moved <= RECHECK_M:
+                return metres + moved
+        metres = float(self.lengths(self.dock, np.array([here]))[0])
+        self._back = (here[0], here[1], metres)
+        return metres
+
     def check_home(self, here: tuple[float, float]) -> str:
         """'' while the robot can still reach the dock from ``here`` above the reserve; else why
         it must head home now (the pack fell faster than the model said)."""
         if self.charge is None:
             return ""
-        back, = self.lengths(self.dock, np.array([here]))
-        at_dock = self.charge - self.config.margin * self.way(float(back))
+        back = self.way_back(here)
+        at_dock = self.charge - self.config.margin * self.way(back)
         if not math.isfinite(at_dock) or at_dock >= self.config.reserve:
             return ""
         return (f"charge {self.charge:.0%} is falling faster than planned: the way back ({back:.0f} m) would "
@@ -202,8 +218,7 @@ class EnergyBudget:
         no reserve): else the robot stops clear of the aisles instead (``mission.patrol.parking``)."""
         if self.charge is None:
             return True
-        back, = self.lengths(self.dock, np.array([here]))
-        return bool(self.charge - self.way(float(back)) > 0.0)
+        return bool(self.charge - self.way(self.way_back(here)) > 0.0)
 
     def figures(self) -> dict:
         """The report's ``energy``: the charge, its lowest, and what the work was found to cost."""
