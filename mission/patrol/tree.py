@@ -97,7 +97,7 @@ from mission.patrol.holds import MissionHolds
 from mission.patrol.inspect_view import InspectView
 from mission.patrol.lidar_loss import LidarLoss
 from mission.patrol.mission_file import Mission, MissionPot
-from mission.patrol.parking import parking_spot
+from mission.patrol.leg_plan import PatrolLegs
 from mission.patrol.pot_finder import PotFinder
 from mission.patrol.visit_order import visit_order
 from nav.path_lengths import lengths_from, path_lengths
@@ -152,12 +152,7 @@ class PatrolTree:
         self.report.observers.append(LegsSection(self.legs, self.energy))
         self.order = self._order(self.mission.pots)
         self.visits = {p.id: PotVisit(p.id) for p in self.order}
-        self._gate_why = ""
-        self._next_check = 0.0
-        self._on_dock_since = 0.0
-        self.parked: Pose2D | None = None
-        self._stranded, self._next_reach = False, 0.0
-        """Where the robot stopped, clear of the aisles, when it could not reach the dock."""
+        self.plan = PatrolLegs(self)
         if self.holds is None:
             self.holds = MissionHolds(self.robot.estop, self.clock.now, self.report.t0)
         self.lidar = LidarLoss(lambda: self.robot.monitor.untrusted_since, self.clock.now,
@@ -251,143 +246,13 @@ class PatrolTree:
                                                                          lambda reason: note("home", reason)),
                                                            Do("on the dock", self.legs.returned)])
             steps.insert(0, Selector("unless parked", memory=True, children=[
-                Check("parked clear of the aisles?", lambda: self.parked is not None), home]))
+                Check("parked clear of the aisles?", lambda: self.plan.parked is not None), home]))
         return Sequence(name, memory=True, children=steps)
 
     def _to_dock(self, name: str) -> Retry:
         home = self.mission.home
         return self._drive(name, lambda: Pose2D(home.x, home.y, home.yaw))
 
-    def _park(self, why: str) -> Sequence:
-        """Out of the aisles and clear of their mouths (``mission.patrol.parking``), for a robot
-        that cannot reach its dock; the note says where it stands."""
-        spot: list[Pose2D] = []
-
-        def choose() -> str | None:
-            here = self.nav.map_pose()
-            found = parking_spot(self.nav.global_costmap.grid, (here.x, here.y), self.energy.lengths)
-            if found is None:
-                return "no place clear of the aisles within reach"
-            spot[:] = [Pose2D(found[0], found[1], here.yaw)]
-            return None
-
-        def parked() -> None:
-            here = self.nav.map_pose()
-            self.parked = here
-            self._battery_end(f"{why}; the dock is out of reach: stopped clear of the aisles at "
-                              f"({here.x:.1f}, {here.y:.1f}) in the map, {self.energy.charge or 0.0:.0%} left")
-
-        go = Sequence("park", memory=True, children=[Do("choose a spot clear of the aisles", choose),
-                                                      self._drive("drive clear of the aisles", lambda: spot[0])])
-        return Sequence("stop clear of the aisles", memory=True, children=[
-            self._or_note("clear of the aisles", go, lambda reason: self.notes.__setitem__("park_spot", reason)),
-            Do("parked", parked)])
-
-    # --- legs (mission.patrol.legs.LegPlan) ------------------------------------------------
-    def leg(self) -> Behaviour | None:
-        """The next leg: the pots not done, each after its energy check; the first leg in the
-        order planned at the start, each later one in a fresh order from the dock."""
-        left = [p for p in self.mission.pots if not self.visits[p.id].done]
-        if not left:
-            return None
-        if self.legs.legs:
-            self.order = self._order(left)
-        self._gate_why = ""
-        order = [p for p in self.order if not self.visits[p.id].done]
-        return Sequence(f"leg {len(self.legs.legs) + 1}", memory=True,
-                        children=[self._gated(p) for p in order] + [self._gated(p, later=True) for p in order])
-
-    def _gated(self, pot: MissionPot, later: bool = False) -> Sequence:
-        visit = self.visits[pot.id]
-
-        def enough() -> bool:
-            if visit.done or (later and not visit.deferred):
-                return True
-            here, goal = self.nav.map_pose(), self.approach_goal(pot)
-            why = self.energy.check_pot((here.x, here.y), (goal.x, goal.y))
-            if why:
-                self._gate_why = f"before {pot.id}: {why}"
-            return not why
-
-        label = f"{pot.id} later" if later else pot.id
-        return Sequence(f"{label} (energy)", memory=True,
-                        children=[Check(f"charge for {label}", enough), self._pot(pot, later)])
-
-    def gate_failed(self) -> str:
-        return self._gate_why
-
-    def short(self) -> str:
-        now = self.clock.now()
-        if now < self._next_check:
-            return ""
-        self._next_check = now + self.config.energy.check_every
-        here = self.nav.map_pose()
-        return self.energy.check_home((here.x, here.y))
-
-    def way_home(self, why: str) -> tuple[Behaviour, bool]:
-        """To the dock, then charge there; or, when it may not charge (``--no-charge``, the
-        legs used, a full charge that did not reach one pot), to the dock to end the patrol."""
-        e, legs = self.config.energy, self.legs.legs
-        self.energy.why_home = why
-        stop = ""
-        if not e.charge:
-            stop = "the dock does not charge (--no-charge)"
-        elif e.max_legs is not None and len(legs) >= e.max_legs:
-            stop = f"{len(legs)} leg(s) done, the most allowed (--max-legs)"
-        elif legs and legs[-1].pots == 0 and len(legs) > 1:
-            stop = "a full charge did not reach one more pot"
-        here = self.nav.map_pose()
-        if not self.energy.reachable((here.x, here.y)):
-            return self._park(why), False
-        self._stranded, self._next_reach = False, 0.0
-        to_dock = [Selector("to the dock", memory=False, children=[
-            Sequence("stranded", memory=True, children=[Check("dock out of reach?", self._out_of_reach),
-                                                        self._park(why)]),
-            Selector("drive or park", memory=True, children=[
-                Sequence("drive to the dock", memory=True, children=[self._to_dock("drive to the dock"),
-                                                                     Do("on the dock", self._docked)]),
-                self._park(why)])])]
-        if stop:
-            self._battery_end(f"{why}; {stop}")
-            return Sequence("home to stop", memory=True, children=to_dock), False
-        charged = WaitUntil(f"charging to {e.charge_to:.0%}",
-                            lambda: self.energy.charge is not None and self.energy.charge >= e.charge_to,
-                            self._not_charging)
-        return Sequence("home to charge", memory=True, children=[*to_dock, charged, Do("charged", self._charged)]), True
-
-    def _out_of_reach(self) -> bool:
-        """Latched, checked every ``check_every`` s on the way home: the pack no longer holds the
-        way to the dock (it kept falling faster than the model said)."""
-        now = self.clock.now()
-        if not self._stranded and now >= self._next_reach:
-            self._next_reach = now + self.config.energy.check_every
-            here = self.nav.map_pose()
-            self._stranded = not self.energy.reachable((here.x, here.y))
-        return self._stranded
-
-    def _battery_end(self, why: str) -> None:
-        left = [p.id for p in self.mission.pots if not self.visits[p.id].done]
-        self.notes["battery"] = f"{why}: the patrol ends at the dock with {len(left)} pot(s) left ({', '.join(left)})"
-
-    def _docked(self) -> None:
-        self.legs.returned()
-        self._on_dock_since = self.clock.now()
-
-    def _charged(self) -> None:
-        self.legs.charged()
-        self.energy.why_home = ""
-
-    def _not_charging(self) -> str | None:
-        """Why waiting on the dock is pointless: no current into the pack for a while."""
-        now = self.clock.now()
-        if self.energy.charging:
-            self._on_dock_since = now
-            return None
-        if now - self._on_dock_since < self.config.energy.charge_start_timeout:
-            return None
-        why = f"no current into the pack for {self.config.energy.charge_start_timeout:g} s on the dock: not charging"
-        self._battery_end(why)
-        return why
 
     def _build(self) -> Behaviour:
         c, note = self.config, self.notes.__setitem__
@@ -397,7 +262,7 @@ class PatrolTree:
                       lambda: self.nav.readiness.overdue(self.clock.now()) and self.nav.readiness.status(self.clock.now())),
             self._or_note("arm to travel", self._arm("arm to travel", self._travel), lambda reason: note("arm", reason)),
         ])
-        pots = Legs("pots", self, self.legs)
+        pots = Legs("pots", self.plan, self.legs)
         watch = WatchTags("watch tags", self.cameras["front"], self.tag_reader,
                           lambda frame, reads: self.report.saw(reads, self.nav.map_pose()),
                           self.nav.map_pose, c.watch_spacing, c.watch_turn)
