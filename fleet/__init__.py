@@ -2,6 +2,6 @@
 
 An application package beside ``mission/``: it uses the link (``mission.link``) and never the
 other way round. ``certs`` makes the fleet's certificate authority and each member's key,
-``router`` writes the Zenoh router's config (TLS, access control) and runs it, ``names`` says
-who is who on the wire.
+``members`` says which names are robots and which consoles, ``router`` writes the Zenoh router's
+config (TLS, access control) from them and opens it.
 """

@@ -23,8 +23,9 @@ ROBOT_LEASE_MS = 800
 liveliness token goes, spec/fleet.md's "within a second" for a robot that drops off the network or
 hangs, not just one whose process ends (a closed socket is seen at once). zenoh's default is 10 s
 (measured: a frozen robot stayed listed 10.0 s; with 1000 ms, 0.99-1.01 s: too close to the
-second); the robot sends keep-alives four times a lease (zenoh's ``keep_alive``), a few bytes each. Consoles keep the default: a console on a busy laptop
-should not lose its link over a late keep-alive."""
+second); the robot sends keep-alives four times a lease (zenoh's ``keep_alive``), a few bytes
+each. Consoles keep the default: a console on a busy laptop should not lose its link over a late
+keep-alive."""
 
 ENDPOINT = re.compile(r"^(tcp|udp|tls|quic|ws|unixsock-stream)/\S+$")
 
