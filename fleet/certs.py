@@ -130,6 +130,13 @@ def make_fleet(out: Path, robots: list[str], consoles: list[str], *, router_host
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise InputError(f"lupin fleet certs -o {out}: cannot write there: {exc.strerror}") from None
+    known = read_members(out) if (out / "fleet.yaml").exists() else Members((), ())
+    merged = Members(_merged(known.robots, robots), _merged(known.consoles, consoles),
+                     DISPATCHER if dispatcher else known.dispatcher)
+    both = sorted(set(merged.robots) & set(merged.consoles))
+    if both:
+        raise InputError(f"lupin fleet certs -o {out}: {', '.join(both)} would be a robot and a console at once "
+                         f"(the fleet's {out / 'fleet.yaml'} says what each name is)")
     ca_key, ca_cert = load_ca(out) if (out / "ca.key").exists() else (None, None)
     if ca_key is None:
         ca_key, ca_cert = make_ca(now)
@@ -142,9 +149,7 @@ def make_fleet(out: Path, robots: list[str], consoles: list[str], *, router_host
         key, cert = make_member(name, ca_key, ca_cert, now, hosts=hosts)
         write_key(out / f"{name}.key", key)
         write_cert(out / f"{name}.pem", cert)
-    known = read_members(out) if (out / "fleet.yaml").exists() else Members((), ())
-    write_members(out, Members(_merged(known.robots, robots), _merged(known.consoles, consoles),
-                               DISPATCHER if dispatcher else known.dispatcher))
+    write_members(out, merged)
     return [n for n, _ in members]
 
 

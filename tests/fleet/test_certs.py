@@ -118,3 +118,11 @@ def test_a_gamepad_that_cannot_be_read_is_exit_2(capsys, tmp_path):
     assert main(["console", "--connect", "tcp/127.0.0.1:1", "--gamepad", str(tmp_path / "event99")]) == 2
     err = capsys.readouterr().err
     assert "--gamepad" in err and "event99" in err and "Traceback" not in err
+
+
+def test_a_name_cannot_become_a_robot_and_a_console(tmp_path, capsys):
+    assert main(["fleet", "certs", "--robots", "r1", "-o", str(tmp_path)]) == 0
+    key = (tmp_path / "r1.key").read_bytes()
+    assert main(["fleet", "certs", "--consoles", "r1", "-o", str(tmp_path)]) == 2
+    assert "robot and a console" in capsys.readouterr().err
+    assert (tmp_path / "r1.key").read_bytes() == key  # refused before anything was written
