@@ -96,8 +96,9 @@ FLEET_KEYS: list[Binding] = [
     Binding("E", "stop_fleet", "FLEET E-STOP", priority=True),
 ]
 """A fleet console's own keys: which robot is shown, and the whole fleet's stop."""
+_fleet_arm = Binding.Group("arm")  # not compact: "f1 f2 ..." reads as keys, "f1f2..." would not
 FLEET_ROBOT_KEYS: list[Binding] = [
     b for b in ROBOT_KEYS if b.group is not _arm] + [
-    Binding(f"f{i + 1}", f"preset('{name}')", f"arm to {name}", group=_arm) for i, name in enumerate(ARM_PRESETS)]
+    Binding(f"f{i + 1}", f"preset('{name}')", f"arm to {name}", group=_fleet_arm) for i, name in enumerate(ARM_PRESETS)]
 FLEET_BINDINGS: list[Binding] = FLEET_ROBOT_KEYS + VIEW_KEYS + FLEET_KEYS
 FLEET_KEY_SECTIONS = [FLEET_ROBOT_KEYS, VIEW_KEYS, FLEET_KEYS]

@@ -34,6 +34,8 @@ def test_keys_pick_the_robot_send_it_commands_and_capital_e_stops_the_fleet(rout
             async with app.run_test(size=(160, 48)) as pilot:
                 await pilot.pause()
                 assert "1 r1  2 r2" in status_text(app.view).plain and app.view.robot == "r1"
+                footer = app.main.query_one("#keys").text.plain
+                assert "f1 f2 f3 f4 f5 f6 arm" in footer and "123456789 robot" in footer and "E FLEET E-STOP" in footer
                 await pilot.press("f1")
                 await app.workers.wait_for_complete()
                 await pilot.press("2")
