@@ -23,7 +23,7 @@ fleet_app = typer.Typer(help="A fleet of robots: certificates (and, next, a simu
                         no_args_is_help=True)
 
 
-def _names(option: str, text: str) -> list[str]:
+def _names(text: str) -> list[str]:
     return [n.strip() for n in text.split(",") if n.strip()] if text else []
 
 
@@ -39,8 +39,8 @@ def certs(
     """Make the fleet's certificate authority and a key and certificate per member."""
     from fleet.certs import make_fleet
 
-    names = make_fleet(out, _names("--robots", robots), _names("--consoles", consoles),
-                       router_hosts=tuple(_names("--router-hosts", router_hosts)))
+    names = make_fleet(out, _names(robots), _names(consoles),
+                       router_hosts=tuple(_names(router_hosts)))
     print(f"lupin fleet certs: {out}/ca.pem and a key and certificate for {', '.join(names)} "
           f"(keys owner-only; ca.key makes new members: keep it off the robots)")
 
