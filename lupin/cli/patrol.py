@@ -271,9 +271,28 @@ def summary(doc: dict, report: Path) -> str:
         lines.append(f"  discovered tag {t['id']} at ({t['x']:.2f}, {t['y']:.2f})")
     for key, why in doc.get("notes", {}).items():
         lines.append(f"  note {key}: {why}")
+    lines += leg_lines(doc.get("legs", []))
     lines += history_lines(doc)
     lines.append(f"report: {report}")
     return "\n".join(lines)
+
+
+def leg_lines(legs: list[dict]) -> list[str]:
+    """A line per leg out from the dock, when the patrol took more than one or came home early."""
+    if len(legs) < 2 and not any(g.get("why_home") for g in legs):
+        return []
+
+    def at(t, charge) -> str:
+        return "-" if t is None else f"{t:.0f} s ({charge:.0%})" if charge is not None else f"{t:.0f} s"
+
+    out = []
+    for g in legs:
+        line = (f"  leg {g['leg']}: left {at(g['left_s'], g['charge_left'])}, "
+                f"back {at(g['returned_s'], g['charge_returned'])}, {g['pots']} pot(s)")
+        if g.get("charged_s") is not None:
+            line += f", charged by {at(g['charged_s'], g['charge_after'])}"
+        out.append(line + (f"; home: {g['why_home']}" if g.get("why_home") else ""))
+    return out
 
 
 def history_lines(doc: dict) -> list[str]:

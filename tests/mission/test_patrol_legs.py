@@ -98,7 +98,7 @@ def test_no_charge_ends_at_the_dock_listing_the_rest_and_resume_patrols_exactly_
     doc = json.loads(first.read_text())
     left = [p["id"] for p in doc["pots"] if p["status"] == "skipped"]
     assert doc["outcome"] == "battery_low" and left and len(doc["legs"]) == 1
-    assert f"left ({', '.join(left)})" in out and "no-charge" in out
+    assert f"left ({', '.join(left)})" in out and "no-charge" in out and "  leg 1: left 3 s (100%), back " in out
     resumed = tmp_path / "resume.yaml"
     assert main(["mission", "resume", str(first), "-o", str(resumed)]) == 0
     assert [p["id"] for p in yaml.safe_load(resumed.read_text())["pots"]] == left
