@@ -22,6 +22,7 @@ might ask of another host.
 """
 from __future__ import annotations
 
+import asyncio
 import gc
 import re
 from datetime import datetime
@@ -31,6 +32,7 @@ from urllib.parse import parse_qs, quote
 import cv2
 from sqlalchemy.exc import SQLAlchemyError
 from starlette.applications import Starlette
+from starlette.concurrency import run_in_threadpool
 from starlette.exceptions import HTTPException
 from starlette.requests import Request
 from starlette.responses import (FileResponse, JSONResponse, RedirectResponse, Response, StreamingResponse)
@@ -52,6 +54,9 @@ HEADERS = [(b"content-security-policy", b"default-src 'self'; img-src 'self' dat
            (b"x-content-type-options", b"nosniff"), (b"referrer-policy", b"same-origin")]
 OPEN_PATHS = ("/login", "/static/")
 MAX_LAST = 365
+WRONG_PASSWORD_S = 1.0
+"""A wrong password is answered after a second (without holding up anyone else's pages): a
+guesser gets one try a second per connection, a person who mistyped hardly notices."""
 
 
 def _when(text: str | None) -> str:
@@ -221,8 +226,9 @@ def make_app(history: History, runs: Path | None, sessions: Sessions) -> Starlet
         if request.method == "GET":
             return html(request, "login.html", target=target, wrong=False)
         form = parse_qs((await request.body()).decode(errors="replace"))
-        token = sessions.sign_in(form.get("password", [""])[0])
+        token = await run_in_threadpool(sessions.sign_in, form.get("password", [""])[0])  # scrypt: off the loop
         if token is None:
+            await asyncio.sleep(WRONG_PASSWORD_S)
             return html(request, "login.html", status=401, target=target, wrong=True)
         response = RedirectResponse(target, 303)
         response.set_cookie(COOKIE, token, max_age=int(SESSION_S), httponly=True, samesite="strict")
