@@ -4,8 +4,8 @@ The battery is a resistive 3S pack: open-circuit voltage falls linearly with cha
 (full 12.6 V to empty 11.1 V, the seed's power_watcher min_voltage) and the terminal voltage
 sags by I*R under load, so driving visibly pulls the voltage down. A fault can force it, or add
 a load (a stuck wheel, a short) that drains it faster than the robot's own work. While the robot
-stands on the dock the charger pushes current into the pack (CC-CV: constant, then tapering),
-so the power monitor reads a negative current, as the INA226 does on the robot.
+stands still on the dock the charger pushes current into the pack (CC-CV: constant, then
+tapering), so the power monitor reads a negative current, as the INA226 does on the robot.
 """
 from __future__ import annotations
 
@@ -35,6 +35,11 @@ class SimImu:
         return ImuReading(self.engine.time, tuple(float(a) for a in acc), tuple(float(g) for g in gyro))
 
 
+DOCKED_LOAD = 0.05
+"""The dock's contacts carry current only to a robot at rest on them: wheel duties summed below
+this (a robot turning or driving over the dock is not charging)."""
+
+
 class SimBattery:
     """Implements the HAL's PowerMonitor. ``load()`` returns the drivetrain's duty load (0..4)."""
 
@@ -57,11 +62,12 @@ class SimBattery:
 
     def _current(self) -> float:
         c = self.config
-        if self._on_dock():  # the charger carries the robot's load and charges the pack
+        load = self._load()
+        if load < DOCKED_LOAD and self._on_dock():  # the charger carries the robot's load and charges the pack
             missing = (1.0 - self.charge) / max(1e-9, 1.0 - c.charge_taper_from)
             return -c.charge_current * min(1.0, missing)
         amps, until = self.extra_load
-        return c.idle_current + c.stall_current * self._load() + (amps if self.engine.time < until else 0.0)
+        return c.idle_current + c.stall_current * load + (amps if self.engine.time < until else 0.0)
 
     def _integrate(self) -> float:
         now = self.engine.time
