@@ -1,0 +1,96 @@
+"""The fleet's split (fleet/split.py) on a greenhouse of straight aisles: a pot's path length to
+another in its aisle is along the aisle; to one in another aisle, out by the nearer end, along
+the headland and in (what the planner's path lengths give in a row greenhouse)."""
+from __future__ import annotations
+
+import numpy as np
+
+from fleet.split import NO_AISLE, split_pots
+from nav.tour import shortest_tour, tour_length
+
+LENGTH = 10.0
+"""Aisle length, m; the headlands run along x = 0 and x = LENGTH."""
+
+
+def greenhouse(aisles: int, pots_per_aisle: int, spacing: float = 1.0):
+    """Pots (x, aisle y) on a grid, their aisle labels and the lengths between them."""
+    xs = np.linspace(1.0, LENGTH - 1.0, pots_per_aisle)
+    pts = np.array([(x, a * spacing) for a in range(aisles) for x in xs])
+    labels = np.repeat(np.arange(aisles), pots_per_aisle)
+    return pts, labels, lengths(pts, pts)
+
+
+def lengths(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    x1, y1 = a[:, None, 0], a[:, None, 1]
+    x2, y2 = b[None, :, 0], b[None, :, 1]
+    around = np.minimum(x1 + x2, 2 * LENGTH - x1 - x2) + np.abs(y1 - y2)
+    return np.where(np.isclose(y1, y2), np.abs(x1 - x2), around)
+
+
+def from_docks(pts: np.ndarray, docks: dict[str, tuple[float, float]]) -> dict[str, np.ndarray]:
+    return {r: lengths(np.array([d]), pts)[0] for r, d in docks.items()}
+
+
+def one_robot_length(pts, between, fd) -> float:
+    m = np.zeros((len(pts) + 1,) * 2)
+    m[0, 1:] = m[1:, 0] = fd
+    m[1:, 1:] = between
+    order = shortest_tour(np.pad(m, ((0, 1), (0, 1)), mode="edge"), 0, len(pts) + 1)
+    return tour_length(m, [0, *order, 0])
+
+
+def test_two_docks_at_either_end_each_take_their_near_half_and_no_aisle_is_split():
+    pts, labels, between = greenhouse(aisles=6, pots_per_aisle=5)
+    docks = {"r1": (0.0, -0.5), "r2": (0.0, 5.5)}
+    s = split_pots(between, from_docks(pts, docks), labels)
+    assert sorted(s.parts["r1"] + s.parts["r2"]) == list(range(len(pts)))
+    assert set(labels[s.parts["r1"]]) == {0, 1, 2} and set(labels[s.parts["r2"]]) == {3, 4, 5}
+    assert abs(s.lengths["r1"] - s.lengths["r2"]) < 1e-6  # the mirror image
+    alone = one_robot_length(pts, between, from_docks(pts, {"r": docks["r1"]})["r"])
+    assert s.makespan < 0.6 * alone
+
+
+def test_three_robots_from_one_end_bring_the_last_home_sooner_than_two():
+    pts, labels, between = greenhouse(aisles=6, pots_per_aisle=5)
+    docks = {"r1": (0.0, -0.5), "r2": (0.0, 2.5), "r3": (0.0, 5.5)}
+    fd = from_docks(pts, docks)
+    two = split_pots(between, fd, labels, up=["r1", "r3"])
+    three = split_pots(between, fd, labels)
+    assert three.makespan < two.makespan
+    assert all(three.parts[r] for r in docks)
+
+
+def test_an_aisle_is_split_only_when_that_saves_more_than_keep_whole():
+    # one aisle, a robot at each end: split, each does its half and is home in 53 % of the time
+    pts, labels, between = greenhouse(aisles=1, pots_per_aisle=16)
+    fd = from_docks(pts, {"r1": (0.0, 0.0), "r2": (LENGTH, 0.0)})
+    whole = split_pots(between, fd, labels, keep_whole=1.0)
+    assert sorted(len(o) for o in whole.parts.values()) == [0, 16]
+    cut = split_pots(between, fd, labels, keep_whole=0.0)
+    assert sorted(len(o) for o in cut.parts.values()) == [8, 8]
+    saved = 1.0 - cut.makespan / whole.makespan
+    assert 0.45 < saved < 0.50
+    assert split_pots(between, fd, labels, keep_whole=0.50).parts == whole.parts  # saves under 50 %: whole
+    assert split_pots(between, fd, labels, keep_whole=0.45).parts == cut.parts
+    assert split_pots(between, fd, labels).parts == cut.parts  # the default's 5 %
+    # four aisles, two robots from one end: two whole aisles each
+    pts, labels, between = greenhouse(aisles=4, pots_per_aisle=5)
+    s = split_pots(between, from_docks(pts, {"r1": (0.0, -0.5), "r2": (0.0, 3.5)}), labels)
+    assert {r: sorted(set(labels[o].tolist())) for r, o in s.parts.items()} == {"r1": [0, 1], "r2": [2, 3]}
+
+
+def test_a_robot_down_gets_nothing_and_the_others_take_every_pot():
+    pts, labels, between = greenhouse(aisles=4, pots_per_aisle=4)
+    fd = from_docks(pts, {"r1": (0.0, -0.5), "r2": (0.0, 1.5), "r3": (0.0, 3.5)})
+    s = split_pots(between, fd, labels, up=["r1", "r3"])
+    assert set(s.parts) == {"r1", "r3"}
+    assert sorted(s.parts["r1"] + s.parts["r3"]) == list(range(len(pts)))
+
+
+def test_pots_in_no_aisle_are_shared_one_by_one():
+    pts = np.array([(1.0, 0.0), (2.0, 0.0), (8.0, 0.0), (9.0, 0.0)])
+    between = np.abs(pts[:, None, 0] - pts[None, :, 0])
+    fd = {"r1": np.abs(pts[:, 0] - 0.0), "r2": np.abs(pts[:, 0] - 10.0)}
+    s = split_pots(between, fd, [NO_AISLE] * 4)
+    assert sorted(s.parts["r1"]) == [0, 1] and sorted(s.parts["r2"]) == [2, 3]
+    assert s.lengths == {"r1": 4.0, "r2": 4.0}
