@@ -9,10 +9,12 @@ table of spec/fleet.md "Security" (default deny; ``flows`` as seen by the router
 
     who         may
     robot R     publish under lupin/R/**, answer queries on lupin/R/cmd/*, lupin/R/stop and
-                lupin/fleet/stop, hold the token lupin/R/alive, read lupin/fleet/**
+                lupin/fleet/stop, hold the token lupin/R/alive, read lupin/fleet/**,
+                ask for aisles on lupin/fleet/aisles/ask/R (fleet.aisle_locks)
     console     read everything under lupin/**, query any key (commands, stops, history),
                 see every robot's token; publish nothing, hold no token
-    dispatcher  what a console may, and write lupin/fleet/** (assignments, aisle locks)
+    dispatcher  what a console may, and write lupin/fleet/** (assignments, aisle locks), answer
+                queries on lupin/fleet/aisles/ask/* (the aisle locks' arbiter)
     everyone    query lupin/*/stop and lupin/fleet/stop: stopping is never refused
 
 Releasing a stop is the command ``lupin/R/cmd/estop`` and commands are consoles' (and the
@@ -25,6 +27,7 @@ import json
 
 import zenoh
 
+from fleet.aisle_locks import ASK, ask_key
 from fleet.members import Members
 from hw.errors import InputError
 from mission.link.session import TlsFiles, tls_settings
@@ -52,9 +55,12 @@ def access_control(members: Members) -> dict:
             _rule(f"{r}.asked", ["query"], ["egress"], served),
             _rule(f"{r}.answer", ["reply"], ["ingress"], served),
             _rule(f"{r}.alive", ["liveliness_token"], ["ingress"], [alive_key(r)]),
+            _rule(f"{r}.aisles", ["query"], ["ingress"], [ask_key(r)]),
+            _rule(f"{r}.aisles.answered", ["reply"], ["egress"], [ask_key(r)]),
         ]
         subjects.append({"id": f"robot {r}", "cert_common_names": [r]})
-        policies.append({"rules": [f"{r}.{p}" for p in ("publish", "serve", "asked", "answer", "alive")],
+        own_rules = ("publish", "serve", "asked", "answer", "alive", "aisles", "aisles.answered")
+        policies.append({"rules": [f"{r}.{p}" for p in own_rules],
                          "subjects": [f"robot {r}"]})
     rules += [
         _rule("subscribe", ["declare_subscriber"], ["ingress"], ["lupin/**"]),
@@ -68,6 +74,9 @@ def access_control(members: Members) -> dict:
         _rule("fleet.read", ["declare_subscriber"], ["ingress"], ["lupin/fleet/**"]),
         _rule("fleet.told", ["put", "delete"], ["egress"], ["lupin/fleet/**"]),
         _rule("fleet.write", ["put", "delete"], ["ingress"], ["lupin/fleet/**"]),
+        _rule("aisles.serve", ["declare_queryable"], ["ingress"], [f"{ASK}/*"]),
+        _rule("aisles.asked", ["query"], ["egress"], [f"{ASK}/*"]),
+        _rule("aisles.answer", ["reply"], ["ingress"], [f"{ASK}/*"]),
     ]
     reader = ["subscribe", "receive", "command", "answered", "who", "who.told"]
     if members.consoles:
@@ -75,7 +84,8 @@ def access_control(members: Members) -> dict:
         policies.append({"rules": reader, "subjects": ["consoles"]})
     if members.dispatcher:
         subjects.append({"id": "dispatcher", "cert_common_names": [members.dispatcher]})
-        policies.append({"rules": [*reader, "fleet.write"], "subjects": ["dispatcher"]})
+        arbiter = ["aisles.serve", "aisles.asked", "aisles.answer"]
+        policies.append({"rules": [*reader, "fleet.write", *arbiter], "subjects": ["dispatcher"]})
     if members.robots:
         subjects.append({"id": "robots", "cert_common_names": list(members.robots)})
         policies.append({"rules": ["stop", "stop.answered", "fleet.read", "fleet.told"], "subjects": ["robots"]})

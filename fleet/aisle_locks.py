@@ -1,0 +1,166 @@
+"""Aisle locks: one robot at a time in an aisle (spec/fleet.md "Aisles"), held through the router.
+
+The dispatcher keeps the table (``AisleTable``) and answers the robots' requests as a Zenoh
+queryable (``AisleLockServer``); robots ask before they enter (``AisleLockClient``). One
+arbiter makes a grant atomic (two robots asking for one free aisle at once cannot both get it,
+which tokens or puts alone cannot promise), and it goes through the router like everything
+else, so the router's access control decides who may ask: robot R only on
+``lupin/fleet/aisles/ask/R``, so no robot asks, or releases, in another's name.
+
+A request names every aisle the robot's next leg crosses and *replaces* what it holds: granted
+all at once or not at all, never one by one, so no robot holds one aisle while it waits for the
+next on the way (Coffman's hold-and-wait is gone wherever a leg starts on open ground). A robot
+refused waits outside and asks again. The one wait it cannot avoid is a robot inside an aisle
+(it inspects from there) whose next leg needs another's: when its wait closes a cycle (r1 in A
+wants B, r2 in B wants A), the request that closed it is answered ``yield``: that robot backs
+out to open ground, lets go of its aisle and plans again, and the other goes on. A lock goes
+with its holder's liveliness (``lupin/<robot>/alive``, ``mission.link.roster``): a dead robot's
+aisles are free within a second. ``overdue`` lists locks held longer than a limit, for the
+fleet report ("a robot that holds a lock too long is reported").
+"""
+from __future__ import annotations
+
+import json
+import threading
+from dataclasses import dataclass, field
+from typing import Callable
+
+import zenoh
+
+from mission.link.roster import Roster
+from mission.link.wire import dumps
+
+AISLES = "lupin/fleet/aisles"
+"""Where the dispatcher publishes who holds which aisle (JSON ``{aisle: robot}``)."""
+ASK = f"{AISLES}/ask"
+
+
+def ask_key(robot: str) -> str:
+    """The key robot ``robot`` asks on (the router lets only it query there)."""
+    return f"{ASK}/{robot}"
+
+
+@dataclass(frozen=True)
+class Answer:
+    granted: bool
+    held_by: dict[int, str] = field(default_factory=dict)
+    """The aisles refused, by whom they are held."""
+    yield_: bool = False
+    """Back out to open ground and plan again: waiting would close a cycle."""
+
+
+class AisleTable:
+    """Who holds which aisle, who waits for whom; every call under one lock."""
+
+    def __init__(self, clock: Callable[[], float]):
+        self.clock = clock
+        self._lock = threading.Lock()
+        self._holder: dict[int, str] = {}
+        self._since: dict[int, float] = {}
+        self._waits: dict[str, set[str]] = {}
+
+    def request(self, robot: str, aisles: list[int]) -> Answer:
+        """``robot`` wants to hold exactly ``aisles`` (empty: release everything)."""
+        with self._lock:
+            blocked = {a: self._holder[a] for a in aisles if self._holder.get(a, robot) != robot}
+            if blocked:
+                self._waits[robot] = set(blocked.values())
+                if self._in_cycle(robot):
+                    del self._waits[robot]
+                    return Answer(False, blocked, yield_=True)
+                return Answer(False, blocked)
+            self._waits.pop(robot, None)
+            now = self.clock()
+            for a in [a for a, r in self._holder.items() if r == robot and a not in aisles]:
+                del self._holder[a], self._since[a]
+            for a in aisles:
+                if a not in self._holder:
+                    self._holder[a], self._since[a] = robot, now
+            return Answer(True)
+
+    def _in_cycle(self, robot: str) -> bool:
+        """Does following who waits for whom from ``robot`` lead back to it?"""
+        seen, todo = set(), list(self._waits.get(robot, ()))
+        while todo:
+            r = todo.pop()
+            if r == robot:
+                return True
+            if r not in seen:
+                seen.add(r)
+                todo.extend(self._waits.get(r, ()))
+        return False
+
+    def keep_only(self, up: set[str]) -> list[str]:
+        """Free every lock of a robot not ``up``; the robots whose locks went."""
+        with self._lock:
+            gone = sorted({r for r in self._holder.values() if r not in up})
+            for a in [a for a, r in self._holder.items() if r not in up]:
+                del self._holder[a], self._since[a]
+            for r in [r for r in self._waits if r not in up]:
+                del self._waits[r]
+            return gone
+
+    def held(self) -> dict[int, str]:
+        with self._lock:
+            return dict(sorted(self._holder.items()))
+
+    def overdue(self, limit: float) -> dict[int, tuple[str, float]]:
+        """Locks held longer than ``limit`` s: aisle -> (robot, seconds held)."""
+        now = self.clock()
+        with self._lock:
+            return {a: (r, now - self._since[a]) for a, r in sorted(self._holder.items()) if now - self._since[a] > limit}
+
+
+class AisleLockServer:
+    """The dispatcher's side: the table as a queryable on ``lupin/fleet/aisles/ask/*``, freed of
+    dead robots by the roster, published on ``lupin/fleet/aisles`` after every change."""
+
+    def __init__(self, session: zenoh.Session, clock: Callable[[], float]):
+        self.session, self.table = session, AisleTable(clock)
+        self.roster = Roster(session, on_change=self._on_roster)
+        self._queryable = session.declare_queryable(f"{ASK}/*", self._on_query)
+
+    def _on_query(self, query: zenoh.Query) -> None:
+        robot = str(query.key_expr).rsplit("/", 1)[1]
+        try:
+            want = json.loads(query.payload.to_bytes()).get("aisles") if query.payload is not None else None
+            aisles = sorted({int(a) for a in want})
+        except (ValueError, TypeError, AttributeError):
+            query.reply_err(dumps({"error": "expected {\"aisles\": [ids]}"}))
+            return
+        # a robot whose liveliness the dispatcher does not see holds nothing: its lock could never be freed
+        a = self.table.request(robot, aisles) if robot in self.roster.robots() else Answer(False)
+        query.reply(query.key_expr, dumps({"granted": a.granted, "held_by": a.held_by, "yield": a.yield_}))
+        if a.granted:
+            self._publish()
+
+    def _on_roster(self) -> None:
+        if self.table.keep_only(set(self.roster.robots())):
+            self._publish()
+
+    def _publish(self) -> None:
+        self.session.put(AISLES, dumps({str(a): r for a, r in self.table.held().items()}))
+
+    def close(self) -> None:
+        self.roster.close()
+        self._queryable.undeclare()
+
+
+class AisleLockClient:
+    """A robot's side: ask for the aisles of its next leg, or let go of them all."""
+
+    def __init__(self, session: zenoh.Session, robot: str, timeout: float = 2.0):
+        self.session, self.key, self.timeout = session, ask_key(robot), timeout
+
+    def ask(self, aisles: list[int]) -> Answer | None:
+        """The arbiter's answer; None when none came (no dispatcher: wait outside, ask again)."""
+        for reply in self.session.get(self.key, payload=dumps({"aisles": list(aisles)}), timeout=self.timeout):
+            if reply.ok is None:
+                return None
+            got = json.loads(reply.ok.payload.to_bytes())
+            return Answer(got["granted"], {int(a): r for a, r in got["held_by"].items()}, got["yield"])
+        return None
+
+    def release(self) -> bool:
+        a = self.ask([])
+        return a is not None and a.granted
