@@ -14,7 +14,9 @@ own looks up 27 voxels of a 3D map for every point and iteration, 18 of them emp
 and registering the scan at half a voxel (below) made a scan cost 1.59 ms median and 2.60 ms p95
 (CPU, the 180-pot patrol's 16,441 recorded scans, in one process beside the other variants),
 against 1.21 / 1.87 ms thinned to 1.5 voxels; in the plane, 0.90 / 1.28 ms, the same trajectory
-and map. It runs on one thread, so results do not depend on thread scheduling (runs are
+and map (the 180-pot survey's scans: 1.51 / 2.52 -> 0.79 / 1.19 ms, the same map). In the worker
+over a live 180-pot patrol (``slam.scale``, the two patrols run side by side on a loaded machine)
+2.26 / 3.28 -> 1.47 / 1.85 ms. It runs on one thread, so results do not depend on thread scheduling (runs are
 deterministic for a seed).
 
 What is registered is the scan as it goes into the local map, thinned to one return per half
