@@ -24,6 +24,15 @@ from nav.occupancy import OccupancyMap
 from sim.world import World
 
 SURVEY_TIMEOUT = 60.0
+"""Least time a survey goal may take, s."""
+SURVEY_PACE = 4.0
+"""...and at least this much per metre of straight line to it, s/m (0.25 m/s: a goal across the
+house winds round the aisles at the 0.5 m/s cruise): the 180-pot greenhouse's last goal, home
+33 m from its last pot, timed out at 60 s with 20 m driven."""
+
+
+def survey_timeout(here: Pose2D, goal: Pose2D) -> float:
+    return max(SURVEY_TIMEOUT, SURVEY_PACE * math.hypot(goal.x - here.x, goal.y - here.y))
 
 
 @dataclass
@@ -77,9 +86,9 @@ def survey(world: World, config: LupinConfig) -> tuple[NavigateRun, SurveyLog]:
     run = start_navigate(world, config)
     log = SurveyLog()
     record(run, log)
-    for pot in world.pots:
-        log.outcomes.append(run.go(approach_pose(pot.x, pot.y, pot.facing), SURVEY_TIMEOUT))
-    log.outcomes.append(run.go(Pose2D(world.spawn.x, world.spawn.y, world.spawn.yaw), SURVEY_TIMEOUT))
+    goals = [approach_pose(pot.x, pot.y, pot.facing) for pot in world.pots]
+    for goal in goals + [Pose2D(world.spawn.x, world.spawn.y, world.spawn.yaw)]:
+        log.outcomes.append(run.go(goal, survey_timeout(run.nav.map_pose(), goal)))
     run.robot.scheduler.step()  # the reply to the last scan arrives one tick later
     log.take_reply(run.nav.localisation.last_reply)
     return run, log
