@@ -64,6 +64,8 @@ JITTER = 0.03
 stay >= 1.5 m wide."""
 SPAWN = (1.0, 0.5, 0.0)
 """Robot start (x, y, yaw): the west end of the south aisle, looking east along it."""
+MAX_ROBOTS = 9
+"""Largest --robots accepted: the console switches robots with the keys 1..9 (spec/fleet.md)."""
 
 MAX_BAYS = 10
 """Largest --bays accepted (ten 16 m bays: a 160 m greenhouse)."""
@@ -103,16 +105,21 @@ _SOUTH, _NORTH = -math.pi / 2, math.pi / 2
 
 
 def generate_world(rows: int, pots_per_row: int, seed: int, name: str | None = None, bays: int = 1,
-                   walkers: int = 0) -> World:
-    """A valid world of ``bays`` x ``rows`` x ``pots_per_row`` pots, the same for the same arguments.
+                   walkers: int = 0, robots: int = 1) -> World:
+    """A valid world of ``bays`` x ``rows`` x ``pots_per_row`` pots, the same for the same arguments;
+    with ``robots`` > 1, a dock for each (``spawns``, ``_docks``).
 
-    Raises :class:`InputError` for sizes outside 1..40 (bays 1..10) or more pots than there are
-    tag ids.
+    Raises :class:`InputError` for sizes outside 1..40 (bays 1..10, robots 1..9 and at most one
+    per aisle) or more pots than there are tag ids.
     """
     for option, value, least, most in (("rows", rows, 1, MAX_ROWS), ("pots per row", pots_per_row, 1, MAX_ROWS),
-                                       ("bays", bays, 1, MAX_BAYS), ("walkers", walkers, 0, MAX_WALKERS)):
+                                       ("bays", bays, 1, MAX_BAYS), ("walkers", walkers, 0, MAX_WALKERS),
+                                       ("robots", robots, 1, MAX_ROBOTS)):
         if isinstance(value, bool) or not isinstance(value, int) or not least <= value <= most:
             raise InputError(f"{option} must be a whole number from {least} to {most} (got {value!r})")
+    if robots > rows + 1:
+        raise InputError(f"--robots {robots}: {robots} robots need {robots} docks, one at the west end of each aisle, and "
+                         f"{rows} rows leave {rows + 1} aisles; generate more rows or fewer robots")
     count = bays * rows * pots_per_row
     max_pots = len(TAG_IDS) - 1  # tags start at 1
     if count > max_pots:
@@ -150,6 +157,7 @@ def generate_world(rows: int, pots_per_row: int, seed: int, name: str | None = N
                       else f"generated-{bays}bays-{rows}x{pots_per_row}-seed{seed}"),
         floor=Floor(x=bays * bay_length, y=floor_y),
         spawn=Pose2(x=SPAWN[0], y=SPAWN[1], yaw=SPAWN[2]),
+        spawns=_docks(robots),
         pots=pots,
         obstacles=[box for b in range(1, bays) for box in _divider(b * bay_length, floor_y)],
         walkers=_walkers(walkers, rows, bays, bay_length, pots_per_row, floor_y, random.Random(f"{seed}-walkers")),
@@ -157,6 +165,15 @@ def generate_world(rows: int, pots_per_row: int, seed: int, name: str | None = N
     )
     validate_world(world, source=f"generated world {world.name!r}")  # a failure here is a bug
     return world
+
+
+def _docks(robots: int) -> list[Pose2]:
+    """A fleet's docks: the spawn, then one at the west end of each next aisle northwards, each
+    looking east along its aisle (1 m apart in the 1.9 m west cross aisle, clear of the rows);
+    none for one robot (its world file stays as before)."""
+    if robots == 1:
+        return []
+    return [Pose2(x=SPAWN[0], y=SPAWN[1] + k * ROW_PITCH, yaw=SPAWN[2]) for k in range(robots)]
 
 
 def _walkers(count: int, rows: int, bays: int, bay_length: float, pots_per_row: int, floor_y: float,

@@ -154,6 +154,9 @@ class World(StrictEntry):
     """Interior size; the floor spans [0, x] x [0, y]."""
     spawn: Pose2
     """Robot start pose, normally in the south aisle."""
+    spawns: list[Pose2] = []
+    """A fleet's docks, one per robot, the first ``spawn`` (spec/world.md, spec/fleet.md "The
+    fleet in the sim"); empty: one robot, at ``spawn``."""
     dock: Optional[Pose2] = None
     """Where the robot charges (issue 31); None: the spawn pose, the robot starts on its dock."""
     pots: list[Pot]
@@ -169,6 +172,11 @@ class World(StrictEntry):
     def dock_pose(self) -> Pose2:
         """The charger's pose: ``dock``, or the spawn pose when the file names none."""
         return self.dock or self.spawn
+
+    @property
+    def spawn_poses(self) -> list[Pose2]:
+        """Each robot's start pose: ``spawns``, or the one ``spawn``."""
+        return list(self.spawns) if self.spawns else [self.spawn]
 
     def climate_readings(self) -> dict[int, dict[str, float]]:
         """The climate table as a greenhouse data source hands it out: per tag, the known fields."""
@@ -237,6 +245,7 @@ def dump_world(world: World) -> str:
         "name": world.name,
         "floor": world.floor.model_dump(),
         "spawn": world.spawn.model_dump(),
+        **({"spawns": [p.model_dump() for p in world.spawns]} if world.spawns else {}),
         **({"dock": world.dock.model_dump()} if world.dock is not None else {}),
         "pots": [p.model_dump(exclude_none=True) for p in world.pots],
     }

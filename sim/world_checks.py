@@ -76,6 +76,7 @@ def world_problems(
 
     s = world.spawn
     out += [f"spawn{p}" for p in robot_circle_problems(world, s.x, s.y, r, robot_radius)]
+    out += _spawns_problems(world, r, robot_radius)
     if world.dock is not None:
         d = world.dock
         out += [f"dock{p}" for p in robot_circle_problems(world, d.x, d.y, r, robot_radius)]
@@ -84,6 +85,27 @@ def world_problems(
         if tag not in first_tag:
             out.append(f"climate[{tag}]: key {tag}: no pot carries tag {tag}")
     out += _walker_problems(world, r)
+    return out
+
+
+def _spawns_problems(world: World, pot_radius: float, robot_radius: float) -> list[str]:
+    """A fleet's docks (spec/world.md ``spawns``): the first is ``spawn``; each clear like the
+    spawn; no two robots' circles touching (each starts on its own dock)."""
+    spawns, out = world.spawns, []
+    if not spawns:
+        return out
+    first, s = spawns[0], world.spawn
+    if (first.x, first.y, first.yaw) != (s.x, s.y, s.yaw):
+        out.append(f"spawns[0]: fields 'x', 'y', 'yaw': ({first.x}, {first.y}, {first.yaw}) is not the spawn pose "
+                   f"({s.x}, {s.y}, {s.yaw}); the first of the fleet's docks is `spawn`")
+    for i, p in enumerate(spawns[1:], 1):
+        out += [f"spawns[{i}]{q}" for q in robot_circle_problems(world, p.x, p.y, pot_radius, robot_radius)]
+    for i, p in enumerate(spawns):
+        for j, q in enumerate(spawns[:i]):
+            gap = math.hypot(p.x - q.x, p.y - q.y)
+            if gap < 2 * robot_radius - _EPS:
+                out.append(f"spawns[{i}]: fields 'x', 'y': {gap:.2f} m from spawns[{j}]; two robots need "
+                           f"{2 * robot_radius:.2f} m between their centres")
     return out
 
 

@@ -56,14 +56,15 @@ def generate(
     seed: int = typer.Option(..., "--seed", help="Random seed (same seed, same world)."),
     bays: int = typer.Option(1, "--bays", help="Bays side by side, each ROWS x POTS-PER-ROW, behind divider walls with doorways."),
     walkers: int = typer.Option(0, "--walkers", help="People walking the aisles."),
+    robots: int = typer.Option(1, "--robots", help="A fleet's robots: one dock each at the aisles' west ends (spawns:)."),
     output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write here instead of stdout."),
 ) -> None:
-    """Write a generated world file: rows of pots with ~0.8 m aisles (in bays, with --bays; people in the aisles, with --walkers)."""
+    """Write a generated world file: rows of pots with ~0.8 m aisles (in bays, with --bays; people in the aisles, with --walkers; a dock per robot, with --robots)."""
     from sim.generate import generate_world
     from sim.world import dump_world
 
     try:
-        text = dump_world(generate_world(rows, pots_per_row, seed, bays=bays, walkers=walkers))
+        text = dump_world(generate_world(rows, pots_per_row, seed, bays=bays, walkers=walkers, robots=robots))
     except ValueError as exc:
         raise InputError(f"sim generate: {exc}") from None
     if output is None:
