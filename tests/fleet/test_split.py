@@ -94,3 +94,27 @@ def test_pots_in_no_aisle_are_shared_one_by_one():
     s = split_pots(between, fd, [NO_AISLE] * 4)
     assert sorted(s.parts["r1"]) == [0, 1] and sorted(s.parts["r2"]) == [2, 3]
     assert s.lengths == {"r1": 4.0, "r2": 4.0}
+
+
+def test_on_the_planners_path_lengths_two_docks_at_either_end_of_a_greenhouse_split_by_aisles():
+    """The tiny greenhouse's map as the planner sees it (inflated costmap, nav.path_lengths),
+    its aisles from the map (fleet.aisles): a robot at the south-west corner and one at the
+    north-east each take the aisles near them, whole."""
+    from fleet.aisles import find_aisles
+    from nav.occupancy import OccupancyMap
+    from nav.path_lengths import lengths_from, path_lengths
+    from tests.nav.builders import RES, greenhouse_grid, greenhouse_occupancy
+
+    rows_y, pots_x = (1.0, 2.0, 3.0), (2.0, 3.0, 4.0, 5.0)
+    pots = np.array([(x, y, np.pi / 2 if y == 2.0 else -np.pi / 2) for y in rows_y for x in pots_x])
+    approach = pots[:, :2] + 0.5 * np.c_[np.cos(pots[:, 2]), np.sin(pots[:, 2])]
+    aisles = find_aisles(OccupancyMap(greenhouse_occupancy(), RES, 0.0, 0.0), pots).at(approach[:, 0], approach[:, 1])
+    grid = greenhouse_grid()
+    docks = {"r1": (1.0, 0.5), "r2": (6.0, 3.5)}
+    s = split_pots(path_lengths(grid, approach), {r: lengths_from(grid, d, approach) for r, d in docks.items()}, aisles)
+    assert sorted(s.parts["r1"] + s.parts["r2"]) == list(range(12))
+    assert set(aisles[s.parts["r1"]]).isdisjoint(aisles[s.parts["r2"]])  # no aisle shared
+    south = aisles[0]  # the south row's aisle goes to the robot docked at its end
+    assert south in aisles[s.parts["r1"]] and aisles[11] in aisles[s.parts["r2"]]
+    alone = split_pots(path_lengths(grid, approach), {"r1": lengths_from(grid, docks["r1"], approach)}, aisles)
+    assert s.makespan < 0.8 * alone.makespan  # 4 m aisles: the drive to the aisles is most of a tour
