@@ -6,8 +6,8 @@ those tours (the makespan). That is the min-max multiple-depot travelling salesm
 dispatcher needs a good answer in seconds, so this is the usual local search on it (Golden,
 Laporte & Taillard, "An adaptive memory heuristic for a class of vehicle routing problems with
 minmax objective", 1997, its improvement step): start each pot at its nearest dock, then keep
-moving a piece from the robot with the longest tour to the robot where it lengthens the makespan
-least, while that shortens the makespan. Each robot's tour is ``nav.tour``'s (nearest
+moving a piece from the robot with the longest tour to another robot, or trading it for one of
+theirs, while that shortens the makespan. Each robot's tour is ``nav.tour``'s (nearest
 neighbour, 2-opt, Or-opt); a trial move is scored by cutting the piece out of one tour and
 inserting it whole, both ways round, at its cheapest place in the other (exact for the orders
 tried, and an upper bound on the tour the robot will drive).
@@ -65,8 +65,9 @@ def split_pots(between: np.ndarray, from_dock: Mapping[str, np.ndarray], aisles:
     labels = np.full(n, NO_AISLE) if aisles is None else np.asarray(aisles)
     tours = _Tours(between, {r: np.asarray(from_dock[r], dtype=float) for r in robots})
     whole = _pieces(labels)
-    start = tours.nearest_docks(whole)
-    by_aisle = tours.improve(start, whole)
+    starts = (tours.nearest_docks(whole), tours.farthest_first(whole))
+    by_aisle = min((tours.improve(s, whole, swaps=True) for s in starts), key=lambda p: _ranked(
+        tours.length(r, o) for r, o in p.items()))
     by_pot = tours.improve({r: list(o) for r, o in by_aisle.items()}, [[k] for k in range(n)])
     best = by_pot if tours.makespan(by_pot) < (1.0 - keep_whole) * tours.makespan(by_aisle) else by_aisle
     return Split({r: [int(k) for k in best[r]] for r in robots}, {r: tours.length(r, best[r]) for r in robots})
@@ -118,6 +119,17 @@ class _Tours:
             got[min(self.ext, key=lambda r: (self.ext[r][0, np.asarray(piece) + 1].min(), r))] += piece
         return {r: self.tour(r, pots) for r, pots in got.items()}
 
+    def farthest_first(self, pieces: list[list[int]]) -> dict[str, list[int]]:
+        """The pieces farthest from every dock first, each to the robot whose tour it leaves
+        shortest (a greedy start that fills the far end before the near one)."""
+        got: dict[str, list[int]] = {r: [] for r in self.ext}
+        far = sorted(range(len(pieces)), key=lambda i: -min(m[0, np.asarray(pieces[i]) + 1].min() for m in self.ext.values()))
+        for i in far:
+            path = self._piece_path(pieces[i])
+            r, order = min(((r, self._inserted(r, got[r], path)) for r in got), key=lambda t: (t[1][0], t[0]))
+            got[r] = order[1]
+        return {r: self.tour(r, pots, pots) for r, pots in got.items()}
+
     def _inserted(self, robot: str, order: list[int], path: list[int]) -> tuple[float, list[int]]:
         """``path`` put whole into ``order`` at its cheapest place, either way round."""
         m = self.ext[robot]
@@ -141,32 +153,34 @@ class _Tours:
         first = int(np.argmax(sub.sum(axis=1)))  # an end of the aisle
         return [piece[first], *(piece[i] for i in shortest_tour(sub, first))]
 
-    def improve(self, parts: dict[str, list[int]], pieces: list[list[int]]) -> dict[str, list[int]]:
-        """Move pieces off the longest tour while that shortens the tours, longest first
-        (compared as the lengths sorted longest first, so a tie for the longest still moves)."""
+    def improve(self, parts: dict[str, list[int]], pieces: list[list[int]], swaps: bool = False) -> dict[str, list[int]]:
+        """Move pieces off the longest tour (or, with ``swaps``, trade one for another robot's)
+        while that shortens the tours, longest first (compared as the lengths sorted longest
+        first, so a tie for the longest still moves)."""
         paths = [self._piece_path(p) for p in pieces]
         for _ in range(4 * len(pieces) + 4):
             lengths = {r: self.length(r, o) for r, o in parts.items()}
             worst = max(sorted(lengths), key=lambda r: lengths[r])
             best, move = _ranked(lengths.values()), None
-            held = set(parts[worst])
-            for path in paths:
-                if not held.issuperset(path):
-                    continue
+            for path in (p for p in paths if set(parts[worst]).issuperset(p)):
                 left = [k for k in parts[worst] if k not in set(path)]
                 cut = self.length(worst, left)
-                for r in parts:
-                    if r == worst:
-                        continue
+                for r in (q for q in parts if q != worst):
                     grown, order = self._inserted(r, parts[r], path)
                     score = _ranked({**lengths, worst: cut, r: grown}.values())
                     if score < best:
                         best, move = score, (r, left, order)
+                    for other in (p for p in paths if swaps and set(parts[r]).issuperset(p)):
+                        mine, mine_order = self._inserted(worst, left, other)
+                        theirs, their_order = self._inserted(r, [k for k in parts[r] if k not in set(other)], path)
+                        score = _ranked({**lengths, worst: mine, r: theirs}.values())
+                        if score < best:
+                            best, move = score, (r, mine_order, their_order)
             if move is None:
                 break
-            r, left, order = move
-            parts[worst] = self.tour(worst, left, left)
-            parts[r] = self.tour(r, order, order)
+            r, mine, theirs = move
+            parts[worst] = self.tour(worst, mine, mine)
+            parts[r] = self.tour(r, theirs, theirs)
         return parts
 
 

@@ -118,3 +118,14 @@ def test_on_the_planners_path_lengths_two_docks_at_either_end_of_a_greenhouse_sp
     assert south in aisles[s.parts["r1"]] and aisles[11] in aisles[s.parts["r2"]]
     alone = split_pots(path_lengths(grid, approach), {"r1": lengths_from(grid, docks["r1"], approach)}, aisles)
     assert s.makespan < 0.8 * alone.makespan  # 4 m aisles: the drive to the aisles is most of a tour
+
+
+def test_twelve_aisles_two_or_three_robots_split_into_near_equal_blocks():
+    pts, labels, between = greenhouse(aisles=12, pots_per_aisle=15)
+    two = split_pots(between, from_docks(pts, {"r1": (0.0, -0.5), "r2": (0.0, 11.5)}), labels)
+    assert {r: sorted(set(labels[o].tolist())) for r, o in two.parts.items()} == {"r1": list(range(6)),
+                                                                                    "r2": list(range(6, 12))}
+    docks = {"r1": (0.0, -0.5), "r2": (0.0, 5.5), "r3": (0.0, 11.5)}
+    three = split_pots(between, from_docks(pts, docks), labels)
+    alone = split_pots(between, from_docks(pts, {"r1": docks["r1"]}), labels)
+    assert three.makespan <= 0.35 * alone.makespan and max(three.lengths.values()) - min(three.lengths.values()) < 2.0
