@@ -12,7 +12,8 @@ all at once or not at all, never one by one, so no robot holds one aisle while i
 next on the way (Coffman's hold-and-wait is gone wherever a leg starts on open ground). A robot
 refused waits outside and asks again. The one wait it cannot avoid is a robot inside an aisle
 (it inspects from there) whose next leg needs another's: when its wait closes a cycle (r1 in A
-wants B, r2 in B wants A), the request that closed it is answered ``yield``: that robot backs
+wants B, r2 in B wants A), the request that closed it is answered ``yield`` (a wait counts while it is
+fresh, ``STALE_WAIT``): that robot backs
 out to open ground, lets go of its aisle and plans again, and the other goes on. A lock goes
 with its holder's liveliness (``lupin/<robot>/alive``, ``mission.link.roster``): a dead robot's
 aisles are free within a second. ``overdue`` lists locks held longer than a limit, for the
@@ -33,6 +34,12 @@ from mission.link.wire import dumps
 AISLES = "lupin/fleet/aisles"
 """Where the dispatcher publishes who holds which aisle (JSON ``{aisle: robot}``)."""
 ASK = f"{AISLES}/ask"
+
+
+STALE_WAIT = 5.0
+"""A robot's wait counts for finding a cycle this long after it last asked, s: a waiting robot
+asks again every second or so, so an older wait is one it gave up (it planned another way, or
+died), and must not make a later request look like a deadlock."""
 
 
 def ask_key(robot: str) -> str:
@@ -57,14 +64,14 @@ class AisleTable:
         self._lock = threading.Lock()
         self._holder: dict[int, str] = {}
         self._since: dict[int, float] = {}
-        self._waits: dict[str, set[str]] = {}
+        self._waits: dict[str, tuple[set[str], float]] = {}
 
     def request(self, robot: str, aisles: list[int]) -> Answer:
         """``robot`` wants to hold exactly ``aisles`` (empty: release everything)."""
         with self._lock:
             blocked = {a: self._holder[a] for a in aisles if self._holder.get(a, robot) != robot}
             if blocked:
-                self._waits[robot] = set(blocked.values())
+                self._waits[robot] = (set(blocked.values()), self.clock())
                 if self._in_cycle(robot):
                     del self._waits[robot]
                     return Answer(False, blocked, yield_=True)
@@ -79,15 +86,17 @@ class AisleTable:
             return Answer(True)
 
     def _in_cycle(self, robot: str) -> bool:
-        """Does following who waits for whom from ``robot`` lead back to it?"""
-        seen, todo = set(), list(self._waits.get(robot, ()))
+        """Does following who waits for whom (fresh waits only) from ``robot`` lead back to it?"""
+        now = self.clock()
+        waits = {r: who for r, (who, t) in self._waits.items() if now - t <= STALE_WAIT}
+        seen, todo = set(), list(waits.get(robot, ()))
         while todo:
             r = todo.pop()
             if r == robot:
                 return True
             if r not in seen:
                 seen.add(r)
-                todo.extend(self._waits.get(r, ()))
+                todo.extend(waits.get(r, ()))
         return False
 
     def keep_only(self, up: set[str]) -> list[str]:

@@ -54,6 +54,16 @@ def test_a_wait_that_would_close_a_cycle_is_told_to_yield_and_the_other_goes_on(
     assert not t.request("r2", [B]).yield_  # waiting on r1 alone is no cycle
 
 
+def test_a_wait_given_up_long_ago_is_no_cycle():
+    clock = Clock()
+    t = AisleTable(clock)
+    t.request("r1", [A]), t.request("r2", [B])
+    assert not t.request("r1", [A, B]).granted  # r1 waits for r2, then plans another way
+    clock.t = 6.0
+    answer = t.request("r2", [B, A])
+    assert not answer.granted and not answer.yield_  # r2 just waits for r1 to leave A
+
+
 def test_a_dead_robots_locks_are_freed_and_a_lock_held_too_long_is_reported():
     clock = Clock()
     t = AisleTable(clock)
