@@ -12,12 +12,12 @@ all at once or not at all, never one by one, so no robot holds one aisle while i
 next on the way (Coffman's hold-and-wait is gone wherever a leg starts on open ground). A robot
 refused waits outside and asks again. The one wait it cannot avoid is a robot inside an aisle
 (it inspects from there) whose next leg needs another's: when its wait closes a cycle (r1 in A
-wants B, r2 in B wants A), the request that closed it is answered ``yield`` (a wait counts while it is
-fresh, ``STALE_WAIT``): that robot backs
-out to open ground, lets go of its aisle and plans again, and the other goes on. A lock goes
-with its holder's liveliness (``lupin/<robot>/alive``, ``mission.link.roster``): a dead robot's
-aisles are free within a second. ``overdue`` lists locks held longer than a limit, for the
-fleet report ("a robot that holds a lock too long is reported").
+wants B, r2 in B wants A; a wait counts while fresh, ``STALE_WAIT``), the request that closed
+it is answered ``yield``: that robot backs out to open ground, lets go of its aisle and plans
+again, and the other goes on. A lock goes with its holder's liveliness (``lupin/<robot>/alive``,
+``mission.link.roster``): a dead robot's aisles are free within a second. ``overdue`` lists
+locks held longer than a limit, for the fleet report ("a robot that holds a lock too long is
+reported").
 """
 from __future__ import annotations
 
