@@ -61,3 +61,32 @@ def test_a_doorway_narrower_than_two_robots_is_an_aisle_and_an_open_room_has_non
     assert a.at([3.05, 1.0, 5.0], [1.35, 1.35, 1.35]).tolist() == [0, NO_AISLE, NO_AISLE]
     occ[14:40, 60:62] = 0  # widened to 1.3 m: two robots pass
     assert find_aisles(OccupancyMap(occ, RES, 0.0, 0.0)).count == 0
+
+
+def world_occupancy(world) -> OccupancyMap:
+    """A generated world's floor plan as a map (walls, pots, axis-aligned boxes): what a finished
+    SLAM map of it shows, for a test of the aisles (the runtime never reads the world)."""
+    w, h = int(round(world.floor.x / RES)) + 2, int(round(world.floor.y / RES)) + 2
+    occ = np.zeros((h, w), np.int8)
+    occ[0, :] = occ[-1, :] = occ[:, 0] = occ[:, -1] = 100
+    cy, cx = (np.mgrid[0:h, 0:w] - 0.5) * RES
+    for p in world.pots:
+        occ[np.hypot(cx - p.x, cy - p.y) <= 0.10] = 100
+    for b in world.obstacles:
+        occ[(np.abs(cx - b.x) <= b.sx / 2) & (np.abs(cy - b.y) <= b.sy / 2)] = 100
+    return OccupancyMap(occ, RES, -RES, -RES)
+
+
+def test_a_generated_two_bay_greenhouse_has_its_row_aisles_and_its_doorways_are_open():
+    from sim.generate import generate_world
+
+    world = generate_world(3, 5, seed=2, bays=2, robots=3)
+    pots = np.array([(p.x, p.y, p.facing) for p in world.pots])
+    a = find_aisles(world_occupancy(world), pots)
+    assert a.count == 8  # per bay: the south strip, two between rows, the north strip
+    approach = pots[:, :2] + 0.5 * np.c_[np.cos(pots[:, 2]), np.sin(pots[:, 2])]
+    assert (a.at(approach[:, 0], approach[:, 1]) != NO_AISLE).all()
+    docks = np.array([(s.x, s.y) for s in world.spawn_poses])
+    assert (a.at(docks[:, 0], docks[:, 1]) == NO_AISLE).all()  # the docks are on open ground
+    divider = world.obstacles[0].x  # its doorways, 1.2 m wide at either end: two robots pass
+    assert (a.at([divider] * 2, [0.6, world.floor.y - 0.6]) == NO_AISLE).all()
