@@ -11,8 +11,9 @@ table of spec/fleet.md "Security" (default deny; ``flows`` as seen by the router
     robot R     publish under lupin/R/**, answer queries on lupin/R/cmd/*, lupin/R/stop and
                 lupin/fleet/stop, hold the token lupin/R/alive, read lupin/fleet/**,
                 ask for aisles on lupin/fleet/aisles/ask/R (fleet.aisle_locks)
-    console     read everything under lupin/**, query any key (commands, stops, history),
-                see every robot's token; publish nothing, hold no token
+    console     read everything under lupin/**, query any key (commands, stops, history) but
+                lupin/fleet/aisles/ask/* (a robot's own: no lock taken in its name), see every
+                robot's token; publish nothing, hold no token
     dispatcher  what a console may, and write lupin/fleet/** (assignments, aisle locks), answer
                 queries on lupin/fleet/aisles/ask/* (the aisle locks' arbiter)
     everyone    query lupin/*/stop and lupin/fleet/stop: stopping is never refused
@@ -74,6 +75,7 @@ def access_control(members: Members) -> dict:
         _rule("fleet.read", ["declare_subscriber"], ["ingress"], ["lupin/fleet/**"]),
         _rule("fleet.told", ["put", "delete"], ["egress"], ["lupin/fleet/**"]),
         _rule("fleet.write", ["put", "delete"], ["ingress"], ["lupin/fleet/**"]),
+        {**_rule("aisles.others", ["query"], ["ingress"], [f"{ASK}/*"]), "permission": "deny"},
         _rule("aisles.serve", ["declare_queryable"], ["ingress"], [f"{ASK}/*"]),
         _rule("aisles.asked", ["query"], ["egress"], [f"{ASK}/*"]),
         _rule("aisles.answer", ["reply"], ["ingress"], [f"{ASK}/*"]),
@@ -81,7 +83,7 @@ def access_control(members: Members) -> dict:
     reader = ["subscribe", "receive", "command", "answered", "who", "who.told"]
     if members.consoles:
         subjects.append({"id": "consoles", "cert_common_names": list(members.consoles)})
-        policies.append({"rules": reader, "subjects": ["consoles"]})
+        policies.append({"rules": [*reader, "aisles.others"], "subjects": ["consoles"]})
     if members.dispatcher:
         subjects.append({"id": "dispatcher", "cert_common_names": [members.dispatcher]})
         arbiter = ["aisles.serve", "aisles.asked", "aisles.answer"]

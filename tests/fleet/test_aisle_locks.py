@@ -78,7 +78,7 @@ def test_a_dead_robots_locks_are_freed_and_a_lock_held_too_long_is_reported():
 
 @pytest.mark.slow
 def test_locks_through_the_router_follow_liveliness_and_nobody_asks_in_anothers_name(router, certs):
-    dispatcher, r1, r2 = (member(router, certs, n) for n in ("dispatcher", "r1", "r2"))
+    dispatcher, r1, r2, ops = (member(router, certs, n) for n in ("dispatcher", "r1", "r2", "ops"))
     server = AisleLockServer(dispatcher, time.monotonic)
     try:
         table, spied = [], []
@@ -93,6 +93,7 @@ def test_locks_through_the_router_follow_liveliness_and_nobody_asks_in_anothers_
         assert wait_for(lambda: table and table[-1] == b'{"0":"r1"}')
         # r2 cannot release r1's lock: the router does not pass its query on r1's key
         assert list(r2.get(ask_key("r1"), payload=b'{"aisles": []}', timeout=0.5)) == []
+        assert list(ops.get(ask_key("r1"), payload=b'{"aisles": []}', timeout=0.5)) == []  # nor a console
         assert server.table.held() == {A: "r1"}
         spy = r2.declare_queryable(f"{AISLES}/ask/*", lambda q: (spied.append(1), q.reply(q.key_expr, b'{}')))
         asked_all = list(r1.get(ask_key("r1"), payload=b'{"aisles": [0]}', target=zenoh.QueryTarget.ALL, timeout=0.5))
@@ -109,5 +110,5 @@ def test_locks_through_the_router_follow_liveliness_and_nobody_asks_in_anothers_
         assert tokens
     finally:
         server.close()
-        for s in (dispatcher, r2):
+        for s in (dispatcher, r2, ops):
             s.close()
