@@ -22,10 +22,11 @@ from nav.config import NavConfig
 from nav.costmap.grid import INSCRIBED, CostGrid
 from nav.frames import transform_points
 
-#: Speed of a step out of a person's way, m/s: issue 28's most within 1.0 m of a person.
-EVADE_SPEED = 0.15
+#: Speed of a step out of a person's way within ``wait_clearance`` (1 m) of them, m/s: issue
+#: 28's most within 1.0 m of a person (farther off, the layer's faster ``step_speed``).
+NEAR_SPEED = 0.15
 #: How far ahead a direction to step out along must be free of pots and walls, m.
-EVADE_LOOK = 0.3
+EVADE_LOOK = 0.4
 #: A person faster than this is walking somewhere: step sideways to their way, m/s.
 WALKING = 0.2
 #: The fan of directions tried, from the preferred one out, rad.
@@ -60,22 +61,36 @@ class PeopleNearby:
         """Is the map point within a person's keep-out, their next steps included?"""
         return any(to_segment(np.array([x, y]), a, b) < r for a, b, r in self.in_map())
 
-    def evade(self, odom: Pose2D, grid: CostGrid, clearance: float | None = None) -> Twist:
+    def in_lane(self, odom: Pose2D) -> bool:
+        """Is the robot (at ``odom``) in the lane of someone walking its way (module docstring)?"""
+        here = np.array([odom.x, odom.y])
+        walking = [p for p in self.counted()
+                   if math.hypot(p.vx, p.vy) > WALKING and (here - [p.x, p.y]) @ [p.vx, p.vy] > 0.0]
+        if not walking:
+            return False
+        now, then = self._segments(walking, self.layer.lane_time)
+        return any(to_segment(here, a, b) < self.keep_out(p) for p, a, b in zip(walking, now, then))
+
+    def evade(self, odom: Pose2D, grid: CostGrid, clearance: float | None = None,
+              reach: float | None = None) -> Twist:
         """A step out of the way of the nearest person whose keep-out the robot (at ``odom``) is
         in, free on ``grid`` (the local costmap without people); zero with nobody that close or
         no free direction. ``clearance``: the body-to-body distance to keep (the layer's when
-        None; the wider ``wait_clearance`` while the robot waits for someone)."""
+        None; the wider ``wait_clearance`` while the robot waits for someone); ``reach``: how
+        many seconds of a walker's walk the keep-out runs along (``predict_time`` when None, the
+        ``lane_time`` to step out of a lane)."""
         people = self.counted()
         if not people:
             return ZERO_TWIST
         here = np.array([odom.x, odom.y])
-        now, then = self._segments(people)
+        now, then = self._segments(people, reach)
         close = [(p, d) for p, a, b in zip(people, now, then)
                  if (d := to_segment(here, a, b)) < self.keep_out(p, clearance)]
         if not close:
             return ZERO_TWIST
         p = min(close, key=lambda c: c[1])[0]
         away = here - [p.x, p.y]
+        gap = float(np.hypot(*away)) - p.radius - self.robot_radius
         away /= max(float(np.hypot(*away)), 1e-9)
         prefer = away
         if math.hypot(p.vx, p.vy) > WALKING:
@@ -90,12 +105,13 @@ class PeopleNearby:
             path = here + steps[:, None] * u
             if np.all(grid.cost_at(path[:, 0], path[:, 1], outside=0) < INSCRIBED):
                 c, s = math.cos(odom.yaw), math.sin(odom.yaw)
-                return Twist(EVADE_SPEED * (c * u[0] + s * u[1]), EVADE_SPEED * (-s * u[0] + c * u[1]), 0.0)
+                v = self.layer.step_speed if gap > self.layer.wait_clearance else NEAR_SPEED
+                return Twist(v * (c * u[0] + s * u[1]), v * (-s * u[0] + c * u[1]), 0.0)
         return ZERO_TWIST
 
-    def _segments(self, people: list[Person]) -> tuple[np.ndarray, np.ndarray]:
-        """Each person now and ``predict_time`` on, odom frame."""
-        t = self.layer.predict_time
+    def _segments(self, people: list[Person], reach: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Each person now and ``reach`` seconds on (``predict_time`` when None), odom frame."""
+        t = self.layer.predict_time if reach is None else reach
         odom = np.array([[p.x, p.y, p.x + p.vx * t, p.y + p.vy * t] for p in people])
         return odom[:, :2], odom[:, 2:]
 
