@@ -190,7 +190,9 @@ def _walkers(count: int, rows: int, bays: int, bay_length: float, pots_per_row: 
         if not yields:
             bay, side = next(in_cross)
             x = _cross_aisle_x(bay, side, bay_length, pots_per_row)
-            out.append(Walker(id=f"W{k + 1}", path=[[x, aisles[0]], [x, aisles[-1]]], speed=speed, pause=pause,
+            south = min(aisles[0] + ROW_PITCH / 2, aisles[-1])  # a cart ahead of them stays clear of the spawn
+            path = [[x, south], [x, aisles[-1]]] if south < aisles[-1] else [[x, south]]  # one row: no way along
+            out.append(Walker(id=f"W{k + 1}", path=path, speed=speed, pause=pause,
                               start=start, yields=False, width=width))
             continue
         bay, y = next(in_aisle)
