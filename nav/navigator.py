@@ -299,10 +299,19 @@ class Navigator:
         """While the collision monitor holds the base, the goal's clocks (its deadline and its
         progress check) stop, for at most ``blocked_wait`` seconds of holding in all: a person
         who keeps stepping in and out of the way adds up. True when that ran out and the goal
-        failed ``blocked``."""
+        failed ``blocked``. When what holds it is a person (within ``wait_clearance``: a grower
+        who stopped for the robot, waiting for it to leave their way), the robot steps back
+        from them instead of pressing on, for up to ``person_wait``: pressing on, robot and
+        grower waited for each other until the goal failed."""
         if not self.io.held():
             return False
-        return self._hold(now, dt, "something in the way")
+        back = self._evade(self.people.layer.wait_clearance) if self.people.counted() else ZERO_TWIST
+        if back == ZERO_TWIST:
+            return self._hold(now, dt, "something in the way")
+        self.smoother.reset()
+        if not self._hold(now, dt, "a person close by", self.config.navigator.person_wait):
+            self.io.publish(back, now)
+        return True
 
     def _hold(self, now: float, dt: float, why: str, wait: float | None = None) -> bool:
         """Count ``dt`` of waiting against ``wait`` (``blocked_wait`` when None) with the goal's

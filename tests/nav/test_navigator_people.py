@@ -47,12 +47,13 @@ class LocalCostmap(FakeCostmap):
 
 
 class Rig:
-    def __init__(self, people=(), closed=False, controller=None):
+    def __init__(self, people=(), closed=False, controller=None, held=False):
         self.people = list(people)
         self.published: list[tuple[float, Twist]] = []
         self.t = 0.0
+        self.held = held
         io = Sources(lambda: START, lambda: ZERO_TWIST, self.scan, lambda tw, now: self.published.append((now, tw)),
-                     lambda: False, lambda: False, lambda: self.people)
+                     lambda: False, lambda: self.held, lambda: self.people)
         self.glob = global_costmap(CFG.costmap, lambda: self.people)
         self.glob.set_static(one_aisle(closed), RES, 0.0, 0.0)
         self.local = LocalCostmap()
@@ -172,3 +173,15 @@ def test_a_robot_boxed_in_waits_it_out_then_fails_blocked_not_no_path_in_a_blink
     end = rig.run(30.0, t0=5.05)
     assert rig.nav.state is State.FAILED and rig.nav.reason.startswith("blocked: boxed in")
     assert CFG.navigator.blocked_wait <= end <= CFG.navigator.blocked_wait + 1.5
+
+
+def test_a_person_the_monitor_holds_the_robot_for_is_stepped_back_from_not_pressed_on():
+    person = Person(16, START.x + 0.75, START.y, 0.0, 0.0, 0.2, 0.9)  # stopped for the robot, 0.35 m off
+    rig = Rig([person], held=True)
+    rig.nav.navigate_to(GOAL, 0.0, timeout=60.0)
+    rig.run(1.0)
+    assert rig.nav.active and all(tw.vx < 0 and abs(tw.vy) < 1e-9 for _, tw in rig.published[1:])  # back, away
+    assert math.hypot(rig.published[-1][1].vx, rig.published[-1][1].vy) == pytest.approx(0.15)
+    end = rig.run(CFG.navigator.person_wait + 5.0, t0=1.05)
+    assert rig.nav.state is State.FAILED and rig.nav.reason.startswith("blocked: a person close by")
+    assert end >= CFG.navigator.person_wait  # a person's wait, not the 15 s for a box
