@@ -25,6 +25,9 @@ from nav.frames import transform_points
 #: Speed of a step out of a person's way within ``wait_clearance`` (1 m) of them, m/s: issue
 #: 28's most within 1.0 m of a person (farther off, the layer's faster ``step_speed``).
 NEAR_SPEED = 0.15
+#: A walk that passes nearer than this to the robot's body would touch it, m: a few tracker
+#: jitters (``in_lane`` within ``wait_clearance``).
+TOUCH = 0.05
 #: How far ahead a direction to step out along must be free of pots and walls, m.
 EVADE_LOOK = 0.4
 #: A person faster than this is walking somewhere: step sideways to their way, m/s.
@@ -69,7 +72,17 @@ class PeopleNearby:
         if not walking:
             return False
         now, then = self._segments(walking, self.layer.lane_time)
-        return any(to_segment(here, a, b) < self.keep_out(p) for p, a, b in zip(walking, now, then))
+        return any(to_segment(here, a, b) < self._lane_width(p, here) for p, a, b in zip(walking, now, then))
+
+    def _lane_width(self, person: Person, here: np.ndarray) -> float:
+        """How near their walk puts the robot in their lane, centre to centre: the keep-out while
+        they are beyond ``wait_clearance``; nearer, only a walk that would touch the robot
+        (``TOUCH`` between bodies). Someone already at arm's length who will pass it by is let
+        pass by a robot standing still; stepping away then is moving beside them."""
+        gap = float(np.hypot(*(here - [person.x, person.y]))) - person.radius - self.robot_radius
+        if gap > self.layer.wait_clearance:
+            return self.keep_out(person)
+        return person.radius + self.robot_radius + TOUCH
 
     def evade(self, odom: Pose2D, grid: CostGrid, clearance: float | None = None,
               reach: float | None = None) -> Twist:

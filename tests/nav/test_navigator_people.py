@@ -152,7 +152,8 @@ def test_a_walker_coming_along_the_robots_way_is_stepped_out_of_while_still_metr
 
 @pytest.mark.parametrize("walker", [Person(13, START.x + 3.0, START.y, 1.0, 0.0, 0.2, 0.9),    # walking away
                                     Person(14, START.x + 3.0, START.y + 1.5, -1.0, 0.0, 0.2, 0.9),  # another lane
-                                    Person(15, START.x + 6.0, START.y, -1.0, 0.0, 0.2, 0.9)])  # 6 m off: beyond 4 s
+                                    Person(15, START.x + 6.0, START.y, -1.0, 0.0, 0.2, 0.9),  # 6 m off: beyond 4 s
+                                    Person(17, START.x + 0.8, START.y + 0.5, -1.0, 0.0, 0.2, 0.9)])  # near, passing by
 def test_a_walker_whose_lane_the_robot_is_not_in_does_not_hold_the_goal(walker):
     rig = Rig([walker])
     rig.nav.navigate_to(GOAL, 0.0, timeout=60.0)
