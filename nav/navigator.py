@@ -39,7 +39,12 @@ stands inside it (a walker who does not yield is coming) it does not just stand 
 out of the way (``nav.people_nearby``), sideways to a walker's way or away from someone standing,
 along the first direction of a fan the local costmap without people keeps free, never towards
 them. While it waits for a person it keeps the wider ``wait_clearance`` (1 m) the same way: it
-waits at a distance, and a grower who stopped for it gets room to come by.
+waits at a distance, and a grower who stopped for it gets room to come by; a grower the
+collision monitor holds it for is stepped back from the same way, not pressed on. A robot in the
+lane of someone walking its way (their next ``lane_time`` s) steps out while they are metres
+off, faster than it may within 1 m of them. A robot boxed in (every cell round it taken, the
+planner's ``StartBlocked``: someone against it) waits ``blocked_wait`` like a hold instead of
+failing goal after goal, and a failed plan is retried at most every ``BLOCKED_REPLAN_GAP``.
 """
 from __future__ import annotations
 
