@@ -39,7 +39,12 @@ stands inside it (a walker who does not yield is coming) it does not just stand 
 out of the way (``nav.people_nearby``), sideways to a walker's way or away from someone standing,
 along the first direction of a fan the local costmap without people keeps free, never towards
 them. While it waits for a person it keeps the wider ``wait_clearance`` (1 m) the same way: it
-waits at a distance, and a grower who stopped for it gets room to come by.
+waits at a distance, and a grower who stopped for it gets room to come by; a grower the
+collision monitor holds it for is stepped back from the same way, not pressed on. A robot in the
+lane of someone walking its way (their next ``lane_time`` s) steps out while they are metres
+off, faster than it may within 1 m of them. A robot boxed in (every cell round it taken, the
+planner's ``StartBlocked``: someone against it) waits ``blocked_wait`` like a hold instead of
+failing goal after goal, and a failed plan is retried at most every ``BLOCKED_REPLAN_GAP``.
 """
 from __future__ import annotations
 
@@ -61,7 +66,7 @@ from nav.frames import compose, distance, inverse, transform_path, transform_poi
 from nav.goal_checker import GoalChecker
 from nav.localisation import Localisation
 from nav.mppi.controller import NoValidControl
-from nav.planner import PlanningError
+from nav.planner import PlanningError, StartBlocked
 from nav.readiness import Readiness
 from nav.smoother import VelocitySmoother
 
@@ -79,9 +84,11 @@ class State(str, Enum):
 
 TERMINAL = (State.SUCCEEDED, State.FAILED, State.CANCELED)
 
-#: Least time between two replans triggered by a blocked path (the 1 Hz replan still runs): a
+#: Least time between two replans triggered by a blocked path or a failed plan (the 1 Hz replan still runs): a
 #: plan the local costmap disagrees with is redone at once, but not on every 50 ms control tick.
 BLOCKED_REPLAN_GAP = 0.5
+#: Why the goal holds while the robot steps out of a walker's lane (``waiting_for``).
+LANE = "out of a walker's way"
 #: Room the global costmap takes in round the robot and the goal before a plan, m: the planner's
 #: 0.5 m goal tolerance and the robot's footprint fit inside it.
 COVER_MARGIN = 1.0
@@ -163,7 +170,7 @@ class Navigator:
         self.goal: Pose2D | None = None
         self.path: np.ndarray | None = None
         """The current global plan, (N, 2) map-frame points."""
-        self._start = self._deadline = self._last_control = self._last_plan = 0.0
+        self._start = self._deadline = self._last_control = self._last_plan = self._last_attempt = 0.0
         self._recoveries = self._replans = self._plan_failures = 0
         self._backoff_until = 0.0
         self._backoff = ZERO_TWIST
@@ -175,7 +182,7 @@ class Navigator:
         way (``blocked_wait``)."""
         self.waiting_for = ""
         """Why the goal waits for people now ('' while it does not)."""
-        self._person_blocks = False
+        self._person_blocks = self._start_blocked = False
 
     # -- the goal API --------------------------------------------------------------------------
 
@@ -196,7 +203,8 @@ class Navigator:
         self._recoveries = self._replans = self._plan_failures = 0
         self._checkpoint = None
         self.held_for = 0.0
-        self.waiting_for, self._person_blocks = "", False
+        self.waiting_for, self._person_blocks, self._start_blocked = "", False, False
+        self._last_attempt = -math.inf
         self.path = None
         self.goal_checker.reset(xy_tolerance)
         self.controller.reset()
@@ -240,7 +248,8 @@ class Navigator:
             self._checkpoint = None
             self.io.publish(ZERO_TWIST, now)
             return
-        if self._waiting(now, dt) or self._waiting_for_people(now, dt):
+        if (self._waiting(now, dt) or self._boxed_in(now, dt) or self._out_of_a_lane(now, dt)
+                or self._waiting_for_people(now, dt)):
             return
         if now >= self._deadline:
             self._finish(State.FAILED, f"timeout after {now - self._start:.1f} s", now)
@@ -256,10 +265,13 @@ class Navigator:
         if self.state is State.RECOVERING:
             self._recover(now, dt)
             return
-        if self.path is None or (now - self._last_plan >= BLOCKED_REPLAN_GAP and self._path_blocked()):
+        if now - self._last_attempt >= BLOCKED_REPLAN_GAP and (self.path is None or self._path_blocked()):
             self._update(self.global_costmap, pose)
             if not self._replan(now):
                 return
+        if self.path is None:  # the last plan failed less than BLOCKED_REPLAN_GAP ago
+            self.io.publish(ZERO_TWIST, now)
+            return
         self._follow(pose, now, dt)
 
     # -- the pieces ----------------------------------------------------------------------------
@@ -278,14 +290,33 @@ class Navigator:
             self.blind = blind
         return blind
 
+    def _boxed_in(self, now: float, dt: float) -> bool:
+        """While every cell round the robot is taken (``StartBlocked``: someone against it), hold
+        still for up to ``blocked_wait``, replanning at 1 Hz, instead of failing goal after goal
+        in a blink. True while waiting or when the wait ran out."""
+        if not self._start_blocked:
+            return False
+        if not self._hold(now, dt, "boxed in: every cell round the robot is taken"):
+            self.io.publish(ZERO_TWIST, now)
+        return True
+
     def _waiting(self, now: float, dt: float) -> bool:
         """While the collision monitor holds the base, the goal's clocks (its deadline and its
         progress check) stop, for at most ``blocked_wait`` seconds of holding in all: a person
         who keeps stepping in and out of the way adds up. True when that ran out and the goal
-        failed ``blocked``."""
+        failed ``blocked``. When what holds it is a person (within ``wait_clearance``: a grower
+        who stopped for the robot, waiting for it to leave their way), the robot steps back
+        from them instead of pressing on, for up to ``person_wait``: pressing on, robot and
+        grower waited for each other until the goal failed."""
         if not self.io.held():
             return False
-        return self._hold(now, dt, "something in the way")
+        back = self._evade(self.people.layer.wait_clearance) if self.people.counted() else ZERO_TWIST
+        if back == ZERO_TWIST:
+            return self._hold(now, dt, "something in the way")
+        self.smoother.reset()
+        if not self._hold(now, dt, "a person close by", self.config.navigator.person_wait):
+            self.io.publish(back, now)
+        return True
 
     def _hold(self, now: float, dt: float, why: str, wait: float | None = None) -> bool:
         """Count ``dt`` of waiting against ``wait`` (``blocked_wait`` when None) with the goal's
@@ -321,13 +352,26 @@ class Navigator:
             self.io.publish(self._evade(self.people.layer.wait_clearance), now)
         return True
 
+    def _out_of_a_lane(self, now: float, dt: float) -> bool:
+        """Step out of the lane of someone walking this way while they are still metres off
+        (``nav.people_nearby``); True while stepping (or when the wait ran out)."""
+        if not self.people.in_lane(self.io.odom_pose()):
+            return False
+        if self.waiting_for != LANE:
+            log.info("waiting: %s", LANE)
+            self.waiting_for = LANE
+        self.smoother.reset()
+        if not self._hold(now, dt, LANE, self.config.navigator.person_wait):
+            self.io.publish(self._evade(reach=self.people.layer.lane_time), now)
+        return True
+
     def _person_close(self) -> bool:
         """Is the robot itself inside a person's keep-out (they came to it, or are coming)?"""
         pose = self.map_pose()
         return self.people.in_keep_out(pose.x, pose.y)
 
-    def _evade(self, clearance: float | None = None) -> Twist:
-        return self.people.evade(self.io.odom_pose(), self.local_costmap.without_people(), clearance)
+    def _evade(self, clearance: float | None = None, reach: float | None = None) -> Twist:
+        return self.people.evade(self.io.odom_pose(), self.local_costmap.without_people(), clearance, reach)
 
     def _progressing(self, pose: Pose2D, now: float) -> bool:
         """Nav2's SimpleProgressChecker: moving ``progress_radius`` from the last checkpoint
@@ -351,8 +395,14 @@ class Navigator:
         m = COVER_MARGIN
         self.global_costmap.cover(min(pose.x, self.goal.x) - m, min(pose.y, self.goal.y) - m,
                                   max(pose.x, self.goal.x) + m, max(pose.y, self.goal.y) + m)
+        self._last_attempt = now
         try:
             self.path = self.planner.plan(self.global_costmap.grid, (pose.x, pose.y), (self.goal.x, self.goal.y))
+        except StartBlocked:
+            self._start_blocked = not self._only_people_block(pose)
+            self._person_blocks = not self._start_blocked
+            self.io.publish(ZERO_TWIST, now)
+            return False
         except PlanningError as exc:
             self._person_blocks = self._only_people_block(pose)
             if self._person_blocks:
@@ -366,7 +416,7 @@ class Navigator:
                 self.io.publish(ZERO_TWIST, now)  # nothing to follow yet: hold still
             return False
         self._plan_failures = 0
-        self._person_blocks = False
+        self._person_blocks = self._start_blocked = False
         self._replans += 1
         self._last_plan = now
         return True

@@ -22,13 +22,18 @@ from nav.config import NavConfig
 from nav.costmap.grid import INSCRIBED, CostGrid
 from nav.frames import transform_points
 
-#: Speed of a step out of a person's way, m/s: issue 28's most within 1.0 m of a person.
-EVADE_SPEED = 0.15
+#: Speed of a step out of a person's way within ``wait_clearance`` (1 m) of them, m/s: issue
+#: 28's most within 1.0 m of a person (farther off, the layer's faster ``step_speed``).
+NEAR_SPEED = 0.15
+#: A walk that passes nearer than this to the robot's body would touch it, m: a few tracker
+#: jitters (``in_lane`` within ``wait_clearance``).
+TOUCH = 0.05
 #: How far ahead a direction to step out along must be free of pots and walls, m.
-EVADE_LOOK = 0.3
+EVADE_LOOK = 0.4
 #: A person faster than this is walking somewhere: step sideways to their way, m/s.
 WALKING = 0.2
-#: The fan of directions tried, from the preferred one out, rad.
+#: The fan of directions tried round "away from them" for someone not walking (or no side of a
+#: walker's way with room), rad.
 EVADE_FAN = np.radians([0, 30, -30, 60, -60, 90, -90, 120, -120, 150, -150, 180])
 
 
@@ -60,44 +65,89 @@ class PeopleNearby:
         """Is the map point within a person's keep-out, their next steps included?"""
         return any(to_segment(np.array([x, y]), a, b) < r for a, b, r in self.in_map())
 
-    def evade(self, odom: Pose2D, grid: CostGrid, clearance: float | None = None) -> Twist:
+    def in_lane(self, odom: Pose2D) -> bool:
+        """Is the robot (at ``odom``) in the lane of someone walking its way (module docstring)?"""
+        here = np.array([odom.x, odom.y])
+        walking = [p for p in self.counted()
+                   if math.hypot(p.vx, p.vy) > WALKING and (here - [p.x, p.y]) @ [p.vx, p.vy] > 0.0]
+        if not walking:
+            return False
+        now, then = self._segments(walking, self.layer.lane_time)
+        return any(to_segment(here, a, b) < self._lane_width(p, here) for p, a, b in zip(walking, now, then))
+
+    def _lane_width(self, person: Person, here: np.ndarray) -> float:
+        """How near their walk puts the robot in their lane, centre to centre: the keep-out while
+        they are beyond ``wait_clearance``; nearer, only a walk that would touch the robot
+        (``TOUCH`` between bodies). Someone already at arm's length who will pass it by is let
+        pass by a robot standing still; stepping away then is moving beside them."""
+        gap = float(np.hypot(*(here - [person.x, person.y]))) - person.radius - self.robot_radius
+        if gap > self.layer.wait_clearance:
+            return self.keep_out(person)
+        return person.radius + self.robot_radius + TOUCH
+
+    def evade(self, odom: Pose2D, grid: CostGrid, clearance: float | None = None,
+              reach: float | None = None) -> Twist:
         """A step out of the way of the nearest person whose keep-out the robot (at ``odom``) is
         in, free on ``grid`` (the local costmap without people); zero with nobody that close or
         no free direction. ``clearance``: the body-to-body distance to keep (the layer's when
-        None; the wider ``wait_clearance`` while the robot waits for someone)."""
+        None; the wider ``wait_clearance`` while the robot waits for someone); ``reach``: how
+        many seconds of a walker's walk the keep-out runs along (``predict_time`` when None, the
+        ``lane_time`` to step out of a lane)."""
         people = self.counted()
         if not people:
             return ZERO_TWIST
         here = np.array([odom.x, odom.y])
-        now, then = self._segments(people)
+        now, then = self._segments(people, reach)
         close = [(p, d) for p, a, b in zip(people, now, then)
                  if (d := to_segment(here, a, b)) < self.keep_out(p, clearance)]
         if not close:
             return ZERO_TWIST
         p = min(close, key=lambda c: c[1])[0]
         away = here - [p.x, p.y]
+        gap = float(np.hypot(*away)) - p.radius - self.robot_radius
         away /= max(float(np.hypot(*away)), 1e-9)
-        prefer = away
-        if math.hypot(p.vx, p.vy) > WALKING:
-            side = np.array([-p.vy, p.vx])
-            prefer = side if side @ away >= 0 else -side
-        steps = np.arange(0.05, EVADE_LOOK + 1e-9, 0.05)
-        a0 = math.atan2(prefer[1], prefer[0])
+        v = self.layer.step_speed if gap > self.layer.wait_clearance else NEAR_SPEED
+        u = self._out_of_lane(p, here, grid, self.keep_out(p, clearance)) if math.hypot(p.vx, p.vy) > WALKING else None
+        if u is None:
+            u = self._fan(away, here, grid)
+        if u is None:
+            return ZERO_TWIST
+        c, s = math.cos(odom.yaw), math.sin(odom.yaw)
+        return Twist(v * (c * u[0] + s * u[1]), v * (-s * u[0] + c * u[1]), 0.0)
+
+    def _out_of_lane(self, p: Person, here: np.ndarray, grid: CostGrid, keep_out: float) -> np.ndarray | None:
+        """The side of a walker's way the robot is on, square to their walk, when ``grid`` has
+        room there to get wholly out of their keep-out; None when it has not (a robot between a
+        cart's way and a wall: a step into the pocket leaves it there when they come by)."""
+        along = np.array([p.vx, p.vy]) / math.hypot(p.vx, p.vy)
+        square = np.array([-along[1], along[0]])
+        lateral = float((here - [p.x, p.y]) @ square)
+        side = square if lateral >= 0 else -square
+        need = keep_out + TOUCH - abs(lateral)
+        return side if _free_run(here, side, need, grid) >= need - 1e-9 else None
+
+    def _fan(self, away: np.ndarray, here: np.ndarray, grid: CostGrid) -> np.ndarray | None:
+        """The first direction of the fan round ``away`` free for ``EVADE_LOOK``, never towards them."""
+        a0 = math.atan2(away[1], away[0])
         for da in EVADE_FAN:
             u = np.array([math.cos(a0 + da), math.sin(a0 + da)])
-            if u @ away < -0.1:
-                continue  # never towards them
-            path = here + steps[:, None] * u
-            if np.all(grid.cost_at(path[:, 0], path[:, 1], outside=0) < INSCRIBED):
-                c, s = math.cos(odom.yaw), math.sin(odom.yaw)
-                return Twist(EVADE_SPEED * (c * u[0] + s * u[1]), EVADE_SPEED * (-s * u[0] + c * u[1]), 0.0)
-        return ZERO_TWIST
+            if u @ away >= -0.1 and _free_run(here, u, EVADE_LOOK, grid) >= EVADE_LOOK:
+                return u
+        return None
 
-    def _segments(self, people: list[Person]) -> tuple[np.ndarray, np.ndarray]:
-        """Each person now and ``predict_time`` on, odom frame."""
-        t = self.layer.predict_time
+    def _segments(self, people: list[Person], reach: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Each person now and ``reach`` seconds on (``predict_time`` when None), odom frame."""
+        t = self.layer.predict_time if reach is None else reach
         odom = np.array([[p.x, p.y, p.x + p.vx * t, p.y + p.vy * t] for p in people])
         return odom[:, :2], odom[:, 2:]
+
+
+def _free_run(here: np.ndarray, u: np.ndarray, length: float, grid: CostGrid) -> float:
+    """How far along ``u`` from ``here`` the robot is free on ``grid`` (5 cm steps, up to ``length``), m."""
+    steps = np.arange(0.05, length + 0.05, 0.05)
+    path = here + steps[:, None] * u
+    blocked = np.nonzero(grid.cost_at(path[:, 0], path[:, 1], outside=0) >= INSCRIBED)[0]
+    return float(steps[blocked[0]] - 0.05) if len(blocked) else float(steps[-1])
 
 
 def to_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:

@@ -51,6 +51,11 @@ class PlanningError(Exception):
     """No plan; ``str(exc)`` says why in a few words (start blocked, no path, ...)."""
 
 
+class StartBlocked(PlanningError):
+    """Every cell round the robot is taken: something against it (someone who walked up to it,
+    a cart pushed past it), not a route that is closed; the navigator waits it out."""
+
+
 def crossing_costs(data: np.ndarray, allow_unknown: bool) -> np.ndarray:
     """NavFn's per-cell crossing cost (uint8) from Nav2 costmap values."""
     v = np.arange(256)
@@ -82,7 +87,7 @@ class NavfnPlanner:
         start, goal = (sy + 1) * (w + 2) + sx + 1, (gy + 1) * (w + 2) + gx + 1
         pot = propagate(cost.ravel(), w + 2, start, goal)
         if not (pot < POT_HIGH).sum() > 1 and start != goal:
-            raise PlanningError("start blocked: every cell around the robot is inscribed or lethal")
+            raise StartBlocked("start blocked: every cell around the robot is inscribed or lethal")
         pot2 = pot.reshape(h + 2, w + 2)
         if pot2[gy + 1, gx + 1] < POT_HIGH:
             tx, ty, end = gx, gy, np.asarray(goal_xy[:2], dtype=float)

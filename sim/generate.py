@@ -18,13 +18,20 @@ one at the north end and one every ``DOOR_SPACING`` metres between: the robot cr
 to bay through the cross aisles, so a long greenhouse is also a test of planning through
 doorways and of SLAM in rooms joined by narrow gaps.
 
-With ``walkers`` K, K people share the greenhouse, one per aisle between two rows (or the north
-aisle; never the south aisle the robot starts in, so no one stands on the spawn), in the mix
-``ROLES`` cycles through (issue 28: the figures must not rest on polite walkers): people and
-cart pushers walk their aisle from the row's first pot to past its last at a seeded speed with
-a pause at each end and a staggered start, a third of everyone with ``yields: false``; workers
-who stay put (standing, or crouching at a bench) are at the east end of their aisle, 0.6 m
-from the wall, where the robot must pass them in the cross aisle.
+With ``walkers`` K, K people share the greenhouse in the mix ``ROLES`` cycles through (issue 28:
+the figures must not rest on polite walkers), a third of everyone with ``yields: false``:
+
+- people and cart pushers who yield work an aisle between two rows (or the north aisle; never
+  the south aisle the robot starts in, so no one stands on the spawn), one per aisle, walking it
+  from the row's first pot to its last at a seeded speed, with a pause at each end and a
+  staggered start;
+- those who do not yield walk through the house along a cross aisle (the west or east end of a
+  bay), across the mouths of the aisles the robot works from: someone looking at the plants, not
+  at the robot, crossing its path. Not down an aisle: pacing a 0.8 m aisle end to end for ever,
+  never yielding, would leave the robot no moment in which it may be there by the issue's own
+  rules (0.3 m body to body), so that aisle's pots would measure the world, not the robot;
+- workers who stay put (standing, or crouching at a bench) are at the east end of their aisle,
+  ``WORKER_FROM_WALL`` from the wall, where the robot must pass them in the cross aisle.
 
 Each pot gets a unique tag (1, 2, 3, ...: AprilTag 36h11 has ids 0..586, so at most 586
 pots), a seeded flower colour, 1..3 blooms and a climate reading; with 3 or more pots at least
@@ -93,8 +100,9 @@ WALKER_START = 30.0
 CART_WIDTH = 0.7
 """A generated cart pusher's width, m: a cart (over 0.6) that still fits a 0.8 m aisle between
 pot edges with 5 cm to spare each side."""
-WORKER_FROM_WALL = 0.6
-"""A worker who stays put stands this far from the east wall (or divider) of the bay, m."""
+WORKER_FROM_WALL = 0.4
+"""A worker who stays put stands this far from the east wall (or divider) of the bay, m: at a
+bench against the wall, leaving the 1.9 m cross aisle room to pass them at arm's length."""
 ROLES = (("walking", False), ("standing", True), ("cart", True), ("crouching", True), ("walking", True),
          ("cart", False))
 """The mix ``--walkers K`` cycles through, (role, yields): of every six, two walk, two push a
@@ -178,29 +186,52 @@ def _docks(robots: int) -> list[Pose2]:
 
 def _walkers(count: int, rows: int, bays: int, bay_length: float, pots_per_row: int, floor_y: float,
              rng: random.Random) -> list[Walker]:
-    """``count`` people, each walking its own aisle of a bay end to end (people do not walk
-    through each other, and two pacing one 0.8 m aisle would close it for good); its own random
-    stream, so adding walkers never changes the pots."""
+    """``count`` people in the module docstring's places, each in its own aisle or cross aisle
+    (people do not walk through each other, and two pacing one 0.8 m aisle would close it for
+    good); its own random stream, so adding walkers never changes the pots."""
     aisles = [FIRST_ROW_Y + (r + 0.5) * ROW_PITCH for r in range(rows - 1)]
     aisles.append(round((FIRST_ROW_Y + (rows - 1) * ROW_PITCH + floor_y) / 2, 3))  # the north aisle
+    roles = [ROLES[k % len(ROLES)] for k in range(count)]
+    crossing = sum(not yields for _, yields in roles)
     slots = [(bay, y) for bay in range(bays) for y in aisles]
-    if count > len(slots):
-        raise InputError(f"at most {len(slots)} walkers in {bays} bay(s) of {rows} rows: one per aisle "
-                         f"(got {count})")
+    ends = [(bay, side) for bay in range(bays) for side in ("west", "east")]
+    if count - crossing > len(slots) or crossing > len(ends):
+        raise InputError(f"at most {len(slots) + len(ends)} walkers in {bays} bay(s) of {rows} rows: one per "
+                         f"aisle or cross aisle, and at most {len(ends)} who do not yield (got {count})")
+    in_aisle, in_cross = iter(rng.sample(slots, count - crossing)), iter(rng.sample(ends, crossing))
     out = []
-    for k, (bay, y) in enumerate(rng.sample(slots, count)):
-        role, yields = ROLES[k % len(ROLES)]
-        x0 = bay * bay_length + FIRST_POT_X
-        x1 = x0 + (pots_per_row - 1) * POT_PITCH + 0.8
+    for k, (role, yields) in enumerate(roles):
         speed, pause, start = (round(rng.uniform(*WALKER_SPEED), 2), round(rng.uniform(*WALKER_PAUSE), 1),
                                round(rng.uniform(0.0, WALKER_START), 1))  # drawn for every role: a stable stream
+        width = CART_WIDTH if role == "cart" else 0.45
+        if not yields:
+            bay, side = next(in_cross)
+            x = _cross_aisle_x(bay, side, bay_length, pots_per_row)
+            south = min(aisles[0] + ROW_PITCH / 2, aisles[-1])  # a cart ahead of them stays clear of the spawn
+            path = [[x, south], [x, aisles[-1]]] if south < aisles[-1] else [[x, south]]  # one row: no way along
+            out.append(Walker(id=f"W{k + 1}", path=path, speed=speed, pause=pause,
+                              start=start, yields=False, width=width))
+            continue
+        bay, y = next(in_aisle)
         if role in ("standing", "crouching"):
             out.append(Walker(id=f"W{k + 1}", path=[[round((bay + 1) * bay_length - WORKER_FROM_WALL, 3), y]],
                               posture=role))
             continue
+        x0 = bay * bay_length + FIRST_POT_X
+        x1 = x0 + (pots_per_row - 1) * POT_PITCH
         out.append(Walker(id=f"W{k + 1}", path=[[round(x0, 3), y], [round(x1, 3), y]], speed=speed, pause=pause,
-                          start=start, yields=yields, width=CART_WIDTH if role == "cart" else 0.45))
+                          start=start, width=width))
     return out
+
+
+def _cross_aisle_x(bay: int, side: str, bay_length: float, pots_per_row: int) -> float:
+    """The middle of a bay's west cross aisle (between its wall or divider and its first pot) or
+    east one (between its last pot and the next wall or divider)."""
+    west = bay * bay_length
+    if side == "west":
+        return round(west + FIRST_POT_X / 2, 3)
+    last = west + FIRST_POT_X + (pots_per_row - 1) * POT_PITCH
+    return round((last + (bay + 1) * bay_length) / 2, 3)
 
 
 def _divider(x: float, floor_y: float) -> list[Obstacle]:

@@ -5,9 +5,10 @@ then the stop, slowdown and approach verdict on a twist), on real MuJoCo scans o
 greenhouse taken at poses along the aisles, with a person standing in the aisle ahead in half
 of them, for forward, sideways and turning twists: median and p95 per scan (goal <= 0.5 ms).
 
-``safety.people``: whole patrols of generated greenhouses (6 rows x 4 pots) with ``WALKERS``
-people in the mix ``lupin sim generate --walkers`` makes (sim.generate.ROLES: a third do not
-yield, cart pushers, a worker standing and one crouching by the east wall), seed after seed,
+``safety.people``: whole patrols of generated greenhouses (two bays of 6 rows x 4 pots, 14 x 7 m)
+with ``WALKERS`` people in the mix ``lupin sim generate --walkers`` makes (sim.generate.ROLES: a
+third do not yield and cross the aisles' mouths, cart pushers, a worker standing and one
+crouching by the east wall), seed after seed,
 until at least ``LUPIN_BENCH_PEOPLE_ENCOUNTERS`` (default ``MIN_ENCOUNTERS``) person encounters
 have been counted; every patrol counts. An encounter is a walker within 1.0 m of the robot's
 body on ground truth (``mission.jobs.people_log``), not a collision-monitor hold: issue 28
@@ -46,13 +47,16 @@ TWISTS = [Twist(0.4, 0.0, 0.0), Twist(0.0, 0.3, 0.0), Twist(0.3, 0.1, 0.6), Twis
 REPEATS = 50
 
 WALKERS = 6
-"""One per aisle of the 6-row greenhouse: one turn of ``sim.generate.ROLES``, so a third do not yield."""
+"""One turn of ``sim.generate.ROLES`` (so a third do not yield) in two bays: a person in every
+second aisle or cross aisle, one per 16 m^2. Until stop 37 the bench put six in one bay, a person
+in every aisle of a 7 x 7 m house (one per 8 m^2, each pacing it for ever): the aisles' pots
+then measured the crowd, not the robot (issue 28's closing notes)."""
 MIN_ENCOUNTERS = 200
 """Person encounters to count, unless ``ENCOUNTERS_ENV`` says otherwise (a quick look: 30)."""
 ENCOUNTERS_ENV = "LUPIN_BENCH_PEOPLE_ENCOUNTERS"
 MAX_WORLDS = 100
 """Seeds tried at most (a run that cannot reach the count says so rather than running on)."""
-ROWS, PER_ROW = 6, 4
+ROWS, PER_ROW, BAYS = 6, 4, 2
 
 
 @benchmark("safety.collision_monitor")
@@ -118,7 +122,7 @@ def people(config: LupinConfig) -> Sample:
     for seed in range(1, MAX_WORLDS + 1):
         if len(met) >= wanted:
             break
-        world = generate_world(ROWS, PER_ROW, seed, walkers=WALKERS)
+        world = generate_world(ROWS, PER_ROW, seed, bays=BAYS, walkers=WALKERS)
         doc, log = _patrol(world, config)
         patrols += 1
         met += log.encounters
@@ -135,7 +139,7 @@ def people(config: LupinConfig) -> Sample:
     extra = [a - b for a, b in zip(robot_time, empty_time)]
     return Sample([], {
         "encounters": len(met), "encounters_wanted": wanted, "patrols": patrols, "walkers_per_world": WALKERS,
-        "not_yielding_per_world": sum(not w.yields for w in generate_world(ROWS, PER_ROW, 1, walkers=WALKERS).walkers),
+        "not_yielding_per_world": sum(not w.yields for w in generate_world(ROWS, PER_ROW, 1, bays=BAYS, walkers=WALKERS).walkers),
         "contacts_while_moving": contacts,
         "min_clearance_while_moving_m": None if math.isinf(least) else round(float(least), 3),
         "clearance_p5_m": _pct(nearest, 5), "encounters_met_moving": len(nearest),

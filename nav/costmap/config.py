@@ -38,6 +38,15 @@ class PersonLayerConfig(Strict):
     yield walks on into a robot that stepped into their way (the no-yield crossing scenario:
     hit at 8 s with the stretch merely costly). 1 s is a walker's 1 m at walking speed, beyond
     which a straight line is a guess."""
+    lane_time: float = Field(4.0, ge=0)
+    """How far ahead a walker's straight walk is their lane, s: a robot standing in the lane of
+    someone coming its way steps out of it before they are at arm's length (``nav.people_nearby``).
+    Within 1 m of a person the robot may move at 0.15 m/s (issue 28), too slow to clear a lane a
+    walker is already in at 1 m/s; 4 s of their walking is 4 m, time for the robot to cross the
+    ~0.9 m out of a cart's way (0.35 m half width, 0.3 m clearance, its own 0.22 m) at ``step_speed``."""
+    step_speed: float = Field(0.3, gt=0)
+    """Speed of a step out of a person's way, m/s (the people guard brings it down to 0.15 m/s
+    within 1 m of anyone)."""
     min_confidence: float = Field(0.5, ge=0, le=1)
     """Tracks at least this confident count (the tracker reports anything the map and the known
     pots do not explain at 0.5: a person until shown otherwise)."""

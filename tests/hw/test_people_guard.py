@@ -72,7 +72,7 @@ def test_someone_at_arms_length_stops_every_motion_turning_and_away_included():
     assert g.judge(Twist(0.0, -0.1, 0.0), 10.0) == Twist(0.0, -0.1, 0.0)
 
 
-def test_someone_passing_close_by_counts_as_there_already_but_not_someone_closing_on_the_robot():
+def test_someone_passing_close_by_counts_as_there_already_but_not_someone_walking_into_the_robot():
     passing = Person(1, 0.15, 0.66, -0.8, 0.0, 0.2, 0.9)  # 0.26 m off, crossing to 0.24 m beside it at 0.8 m/s
     g = guard(passing)
     assert g.verdict.action == NONE
@@ -83,6 +83,9 @@ def test_someone_passing_close_by_counts_as_there_already_but_not_someone_closin
     g = guard(coming)
     assert g.judge(Twist(0.0, -0.1, 0.0), 5.0) == Twist(0.0, -0.1, 0.0)  # out of their way: yes
     assert speed(g.judge(Twist(0.0, 0.1, 0.0), 5.0)) == pytest.approx(0.0)  # towards them: never
+    past = Person(1, 0.53, 0.6, 0.0, -0.8, 0.2, 0.9)  # closing fast, but their walk passes 0.11 m beside it
+    g = guard(past)
+    assert g.judge(Twist(0.0, -0.1, 0.0), 5.0) == Twist(0.0, 0.0, 0.0) and g.verdict.action == STILL
 
 
 def test_two_people_either_side_ahead_stop_the_robot_between_them():

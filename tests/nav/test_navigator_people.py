@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
 from hw.interfaces import ZERO_TWIST, LidarScan, Twist
 from hw.odometry import Pose2D
@@ -16,7 +17,7 @@ from hw.people import Person
 from nav.config import NavConfig
 from nav.costmap.layered import global_costmap
 from nav.localisation import OdometryOnly
-from nav.navigator import Navigator, Sources, State
+from nav.navigator import LANE, Navigator, Sources, State
 from nav.planner import NavfnPlanner
 from tests.nav.test_navigator import FakeController, FakeCostmap
 
@@ -46,12 +47,13 @@ class LocalCostmap(FakeCostmap):
 
 
 class Rig:
-    def __init__(self, people=(), closed=False, controller=None):
+    def __init__(self, people=(), closed=False, controller=None, held=False):
         self.people = list(people)
         self.published: list[tuple[float, Twist]] = []
         self.t = 0.0
+        self.held = held
         io = Sources(lambda: START, lambda: ZERO_TWIST, self.scan, lambda tw, now: self.published.append((now, tw)),
-                     lambda: False, lambda: False, lambda: self.people)
+                     lambda: False, lambda: self.held, lambda: self.people)
         self.glob = global_costmap(CFG.costmap, lambda: self.people)
         self.glob.set_static(one_aisle(closed), RES, 0.0, 0.0)
         self.local = LocalCostmap()
@@ -132,3 +134,55 @@ def test_a_walker_coming_across_is_stepped_aside_from_not_backed_along_its_way()
     rig.run(0.5)
     tw = rig.published[-1][1]
     assert abs(tw.vx) > 0.1 and abs(tw.vy) < 0.05  # along x, out of its way south
+
+
+def test_a_walker_coming_along_the_robots_way_is_stepped_out_of_while_still_metres_off():
+    walker = Person(12, START.x + 3.0, START.y, -1.0, 0.0, 0.2, 0.9)  # 3 m ahead, walking at it at 1 m/s
+    rig = Rig([walker])
+    rig.nav.navigate_to(GOAL, 0.0, timeout=60.0)
+    rig.run(0.5)
+    assert rig.nav.active and rig.nav.waiting_for == LANE
+    tw = rig.published[-1][1]
+    assert abs(tw.vy) == pytest.approx(CFG.costmap.global_costmap.people.step_speed) and abs(tw.vx) < 1e-9
+    walker = Person(12, START.x + 0.9, START.y, -1.0, 0.0, 0.2, 0.9)  # within 1 m: the 0.15 m/s step
+    rig.people[:] = [walker]
+    rig.run(1.0, t0=0.55)
+    assert math.hypot(rig.published[-1][1].vx, rig.published[-1][1].vy) == pytest.approx(0.15)
+
+
+@pytest.mark.parametrize("walker", [Person(13, START.x + 3.0, START.y, 1.0, 0.0, 0.2, 0.9),    # walking away
+                                    Person(14, START.x + 3.0, START.y + 1.5, -1.0, 0.0, 0.2, 0.9),  # another lane
+                                    Person(15, START.x + 6.0, START.y, -1.0, 0.0, 0.2, 0.9),  # 6 m off: beyond 4 s
+                                    Person(17, START.x + 0.8, START.y + 0.5, -1.0, 0.0, 0.2, 0.9)])  # near, passing by
+def test_a_walker_whose_lane_the_robot_is_not_in_does_not_hold_the_goal(walker):
+    rig = Rig([walker])
+    rig.nav.navigate_to(GOAL, 0.0, timeout=60.0)
+    rig.run(0.5)
+    assert rig.nav.waiting_for != LANE
+
+
+def test_a_robot_boxed_in_waits_it_out_then_fails_blocked_not_no_path_in_a_blink():
+    occ = one_aisle()
+    cx, cy = int(START.x / RES), int(START.y / RES)
+    occ[cy - 5:cy + 6, cx - 5:cx + 6] = 100  # something against it on every side
+    occ[cy - 3:cy + 4, cx - 3:cx + 4] = 0
+    rig = Rig()
+    rig.glob.set_static(occ, RES, 0.0, 0.0)
+    rig.nav.navigate_to(GOAL, 0.0, timeout=60.0)
+    rig.run(5.0)
+    assert rig.nav.active and all(tw == ZERO_TWIST for _, tw in rig.published)
+    end = rig.run(30.0, t0=5.05)
+    assert rig.nav.state is State.FAILED and rig.nav.reason.startswith("blocked: boxed in")
+    assert CFG.navigator.blocked_wait <= end <= CFG.navigator.blocked_wait + 1.5
+
+
+def test_a_person_the_monitor_holds_the_robot_for_is_stepped_back_from_not_pressed_on():
+    person = Person(16, START.x + 0.75, START.y, 0.0, 0.0, 0.2, 0.9)  # stopped for the robot, 0.35 m off
+    rig = Rig([person], held=True)
+    rig.nav.navigate_to(GOAL, 0.0, timeout=60.0)
+    rig.run(1.0)
+    assert rig.nav.active and all(tw.vx < 0 and abs(tw.vy) < 1e-9 for _, tw in rig.published[1:])  # back, away
+    assert math.hypot(rig.published[-1][1].vx, rig.published[-1][1].vy) == pytest.approx(0.15)
+    end = rig.run(CFG.navigator.person_wait + 5.0, t0=1.05)
+    assert rig.nav.state is State.FAILED and rig.nav.reason.startswith("blocked: a person close by")
+    assert end >= CFG.navigator.person_wait  # a person's wait, not the 15 s for a box

@@ -101,22 +101,30 @@ def test_generated_walkers_are_a_mix_in_the_aisles_clear_of_the_spawn_and_leave_
     plain, peopled = generate_world(4, 6, seed=5), generate_world(4, 6, seed=5, walkers=4)
     assert plain.pots == peopled.pots and not plain.walkers
     assert [w.id for w in peopled.walkers] == [f"W{k}" for k in range(1, 5)]
-    assert len({w.path[0][1] for w in peopled.walkers}) == 4  # one per aisle
+    in_aisles = [w for w in peopled.walkers if w.yields]
+    assert len({w.path[0][1] for w in in_aisles}) == len(in_aisles) == 3  # one per aisle
+    pots_x = [p.x for p in plain.pots]
     for w in peopled.walkers:
-        assert w.path[0][1] > 1.0  # never the south aisle the robot starts in
-        if len(w.path) == 2:
+        assert min(y for _, y in w.path) > 1.0  # never the south aisle the robot starts in
+        if not w.yields:  # across the aisles' mouths, in a cross aisle clear of every pot
             (x0, y0), (x1, y1) = w.path
-            assert y0 == y1 and x1 > x0 + 4.0  # along a whole aisle
+            assert x0 == x1 and y1 > y0 + 2.0 and (x0 < min(pots_x) - 0.5 or x0 > max(pots_x) + 0.5)
+        elif len(w.path) == 2:
+            (x0, y0), (x1, y1) = w.path
+            assert y0 == y1 and x1 > x0 + 4.0  # along a whole aisle, first pot to last
+            assert x0 >= min(pots_x) - 0.1 and x1 <= max(pots_x) + 0.1
         else:
-            assert w.path[0][0] == pytest.approx(plain.floor.x - 0.6)  # a worker by the east wall
+            assert w.path[0][0] == pytest.approx(plain.floor.x - 0.4)  # a worker by the east wall
     kinds = [(len(w.path), w.posture, w.width > 0.6, w.yields) for w in peopled.walkers]
     assert kinds == [(2, "standing", False, False), (1, "standing", False, True), (2, "standing", True, True),
                      (1, "crouching", False, True)]
     many = generate_world(5, 6, seed=5, bays=2, walkers=10).walkers
     assert len(many) == 10 and sum(not w.yields for w in many) == 3  # a third or so do not yield
+    assert len({w.path[0][0] for w in many if not w.yields}) == 3  # each its own cross aisle
     assert generate_world(4, 6, seed=5, walkers=4).walkers == peopled.walkers
     with pytest.raises(InputError, match="walkers must be a whole number from 0 to 50"):
         generate_world(4, 6, seed=5, walkers=51)
-    with pytest.raises(InputError, match=r"at most 4 walkers in 1 bay\(s\) of 4 rows: one per aisle \(got 5\)"):
-        generate_world(4, 6, seed=5, walkers=5)
+    with pytest.raises(InputError, match=r"at most 6 walkers in 1 bay\(s\) of 4 rows: one per aisle or cross "
+                                         r"aisle, and at most 2 who do not yield \(got 7\)"):
+        generate_world(4, 6, seed=5, walkers=7)
     assert len(generate_world(4, 6, seed=5, bays=2, walkers=8).walkers) == 8
