@@ -34,43 +34,54 @@ KEEP_WHOLE = 0.05
 """An aisle is split between robots only when that brings the last robot home more than 5 %
 sooner: below that, the lock waits and the crossing in the aisle's ends cost more than the
 metres saved (the issue: "aisles kept whole per robot where that costs little")."""
+PER_POT_M = 2.4
+"""What a pot costs beyond driving, in metres of driving at the robot's pace: the default
+greenhouse's 12 pots take about 107 s of robot time (README) on a ~14 m tour driven at ~0.4 m/s
+on average (MPPI's vx_max 0.5 less the turns), ~6 s a pot at a stop (read the tag, arm out,
+detect, arm back), which is ~2.4 m. It makes a robot of many pots in a short aisle as late as
+one of few pots far away. Not tuned: a first figure from one run, to refine from fleet runs."""
 NO_AISLE = -1
 """The aisle label of a pot that stands in no aisle (open floor): a piece of its own."""
 
 
 @dataclass(frozen=True)
 class Split:
-    """Each robot's pots (indices into the mission's pots) in their visiting order, and its tour
-    length from its dock back to it, m."""
+    """Each robot's pots (indices into the mission's pots) in their visiting order, its tour
+    length from its dock back to it, m, and what a pot costs on top (``PER_POT_M``)."""
 
     parts: dict[str, list[int]]
     lengths: dict[str, float]
+    per_pot: float = PER_POT_M
+
+    def cost(self, robot: str) -> float:
+        """The robot's tour and its stops, in metres of driving."""
+        return self.lengths[robot] + self.per_pot * len(self.parts[robot])
 
     @property
     def makespan(self) -> float:
-        """The longest tour, m: when the last robot is home (at the fleet's common speed)."""
-        return max(self.lengths.values(), default=0.0)
+        """The costliest robot's, m of driving: when the last robot is home."""
+        return max((self.cost(r) for r in self.parts), default=0.0)
 
 
 def split_pots(between: np.ndarray, from_dock: Mapping[str, np.ndarray], aisles: Sequence[int] | None = None,
-               up: Sequence[str] | None = None, keep_whole: float = KEEP_WHOLE) -> Split:
+               up: Sequence[str] | None = None, keep_whole: float = KEEP_WHOLE, per_pot: float = PER_POT_M) -> Split:
     """Divide the pots between the robots ``up`` (default: every robot in ``from_dock``).
     ``between``: (N, N) path lengths between the pots; ``from_dock[robot]``: (N,) from its dock
-    to each pot; ``aisles``: each pot's aisle (``NO_AISLE``: none), default none. A robot not
-    up gets nothing (and no entry)."""
+    to each pot; ``aisles``: each pot's aisle (``NO_AISLE``: none), default none; ``per_pot``:
+    a pot's stop in metres of driving. A robot not up gets nothing (and no entry)."""
     n = len(between)
     robots = sorted(up if up is not None else from_dock)
     if not robots:
         raise ValueError("no robot is up to take the pots")
     labels = np.full(n, NO_AISLE) if aisles is None else np.asarray(aisles)
-    tours = _Tours(between, {r: np.asarray(from_dock[r], dtype=float) for r in robots})
+    tours = _Tours(between, {r: np.asarray(from_dock[r], dtype=float) for r in robots}, per_pot)
     whole = _pieces(labels)
     starts = (tours.nearest_docks(whole), tours.farthest_first(whole))
     by_aisle = min((tours.improve(s, whole, swaps=True) for s in starts), key=lambda p: _ranked(
-        tours.length(r, o) for r, o in p.items()))
+        tours.cost(r, o) for r, o in p.items()))
     by_pot = tours.improve({r: list(o) for r, o in by_aisle.items()}, [[k] for k in range(n)])
     best = by_pot if tours.makespan(by_pot) < (1.0 - keep_whole) * tours.makespan(by_aisle) else by_aisle
-    return Split({r: [int(k) for k in best[r]] for r in robots}, {r: tours.length(r, best[r]) for r in robots})
+    return Split({r: [int(k) for k in best[r]] for r in robots}, {r: tours.length(r, best[r]) for r in robots}, per_pot)
 
 
 def _pieces(labels: np.ndarray) -> list[list[int]]:
@@ -84,8 +95,8 @@ def _pieces(labels: np.ndarray) -> list[list[int]]:
 class _Tours:
     """Tour lengths for each robot over ``[dock, pots...]`` (node 0 its dock, pot k node k + 1)."""
 
-    def __init__(self, between: np.ndarray, from_dock: dict[str, np.ndarray]):
-        self.between = np.asarray(between, dtype=float)
+    def __init__(self, between: np.ndarray, from_dock: dict[str, np.ndarray], per_pot: float):
+        self.between, self.per_pot = np.asarray(between, dtype=float), per_pot
         self.ext = {}
         for r, fd in from_dock.items():
             m = np.zeros((len(fd) + 1, len(fd) + 1))
@@ -96,8 +107,11 @@ class _Tours:
     def length(self, robot: str, order: Sequence[int]) -> float:
         return tour_length(self.ext[robot], [0, *(k + 1 for k in order), 0]) if len(order) else 0.0
 
+    def cost(self, robot: str, order: Sequence[int]) -> float:
+        return self.length(robot, order) + self.per_pot * len(order)
+
     def makespan(self, parts: dict[str, list[int]]) -> float:
-        return max(self.length(r, o) for r, o in parts.items())
+        return max(self.cost(r, o) for r, o in parts.items())
 
     def tour(self, robot: str, pots: Sequence[int], order: Sequence[int] | None = None) -> list[int]:
         """A short order for ``pots`` from the robot's dock and back: ``nav.tour``'s, or ``order``
@@ -131,7 +145,8 @@ class _Tours:
         return {r: self.tour(r, pots, pots) for r, pots in got.items()}
 
     def _inserted(self, robot: str, order: list[int], path: list[int]) -> tuple[float, list[int]]:
-        """``path`` put whole into ``order`` at its cheapest place, either way round."""
+        """``path`` put whole into ``order`` at its cheapest place, either way round; the cost of
+        the tour so made (its stops included)."""
         m = self.ext[robot]
         nodes = np.asarray([0, *(k + 1 for k in order), 0])
         inner = tour_length(m, [k + 1 for k in path])
@@ -143,7 +158,8 @@ class _Tours:
         i, j = int(np.argmin(fwd)), int(np.argmin(rev))
         piece = path if fwd[i] <= rev[j] else path[::-1]
         at = i if fwd[i] <= rev[j] else j
-        return base + inner + min(fwd[i], rev[j]), order[:at] + list(piece) + order[at:]
+        cost = base + inner + min(fwd[i], rev[j]) + self.per_pot * (len(order) + len(path))
+        return cost, order[:at] + list(piece) + order[at:]
 
     def _piece_path(self, piece: list[int]) -> list[int]:
         """The piece's pots in a short open order (an aisle end to end)."""
@@ -159,12 +175,12 @@ class _Tours:
         first, so a tie for the longest still moves)."""
         paths = [self._piece_path(p) for p in pieces]
         for _ in range(4 * len(pieces) + 4):
-            lengths = {r: self.length(r, o) for r, o in parts.items()}
+            lengths = {r: self.cost(r, o) for r, o in parts.items()}
             worst = max(sorted(lengths), key=lambda r: lengths[r])
             best, move = _ranked(lengths.values()), None
             for path in (p for p in paths if set(parts[worst]).issuperset(p)):
                 left = [k for k in parts[worst] if k not in set(path)]
-                cut = self.length(worst, left)
+                cut = self.cost(worst, left)
                 for r in (q for q in parts if q != worst):
                     grown, order = self._inserted(r, parts[r], path)
                     score = _ranked({**lengths, worst: cut, r: grown}.values())

@@ -37,7 +37,9 @@ def test_two_docks_get_their_own_missions_of_whole_aisles_ending_at_their_docks(
     assert all(mm.order == "as_listed" and (mm.home.x, mm.home.y) == (0.0, 0.0) and mm.name == "tiny"
                for mm in a.missions.values())
     by_id = {p.id: k for k, p in enumerate(m.pots)}
-    assert set(a.aisles[[by_id[i] for i in ids["r1"]]]).isdisjoint(a.aisles[[by_id[i] for i in ids["r2"]]])
+    assert {"P01", "P02", "P03", "P04"} <= set(ids["r1"])  # the south aisle, whole, to the robot docked at its end
+    assert a.aisles[by_id["P01"]] != a.aisles[by_id["P12"]]
+    assert abs(a.split.cost("r1") - a.split.cost("r2")) < 2.0  # the middle aisle's 8 pots shared to balance
     # r2's pots back in the fleet frame are the mission's
     r2 = a.missions["r2"].pots[0]
     fleet = m.pots[by_id[r2.id]]
@@ -46,4 +48,4 @@ def test_two_docks_get_their_own_missions_of_whole_aisles_ending_at_their_docks(
     alone = assign(m, greenhouse_grid(), docks, up=["r1"])
     assert list(alone.missions) == ["r1"] and len(alone.missions["r1"].pots) == 12
     assert (alone.aisles == -1).all()  # no map: no aisles
-    assert np.isclose(alone.split.makespan, max(alone.split.lengths.values()))
+    assert np.isclose(alone.split.makespan, alone.split.lengths["r1"] + 12 * alone.split.per_pot)

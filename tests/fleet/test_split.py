@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from fleet.split import NO_AISLE, split_pots
+from fleet.split import NO_AISLE, PER_POT_M, split_pots
 from nav.tour import shortest_tour, tour_length
 
 LENGTH = 10.0
@@ -47,7 +47,7 @@ def test_two_docks_at_either_end_each_take_their_near_half_and_no_aisle_is_split
     assert set(labels[s.parts["r1"]]) == {0, 1, 2} and set(labels[s.parts["r2"]]) == {3, 4, 5}
     assert abs(s.lengths["r1"] - s.lengths["r2"]) < 1e-6  # the mirror image
     alone = one_robot_length(pts, between, from_docks(pts, {"r": docks["r1"]})["r"])
-    assert s.makespan < 0.6 * alone
+    assert max(s.lengths.values()) < 0.6 * alone
 
 
 def test_three_robots_from_one_end_bring_the_last_home_sooner_than_two():
@@ -111,13 +111,18 @@ def test_on_the_planners_path_lengths_two_docks_at_either_end_of_a_greenhouse_sp
     aisles = find_aisles(OccupancyMap(greenhouse_occupancy(), RES, 0.0, 0.0), pots).at(approach[:, 0], approach[:, 1])
     grid = greenhouse_grid()
     docks = {"r1": (1.0, 0.5), "r2": (6.0, 3.5)}
-    s = split_pots(path_lengths(grid, approach), {r: lengths_from(grid, d, approach) for r, d in docks.items()}, aisles)
+    fd = {r: lengths_from(grid, d, approach) for r, d in docks.items()}
+    s = split_pots(path_lengths(grid, approach), fd, aisles, per_pot=0.0)  # driving alone
     assert sorted(s.parts["r1"] + s.parts["r2"]) == list(range(12))
     assert set(aisles[s.parts["r1"]]).isdisjoint(aisles[s.parts["r2"]])  # no aisle shared
     south = aisles[0]  # the south row's aisle goes to the robot docked at its end
     assert south in aisles[s.parts["r1"]] and aisles[11] in aisles[s.parts["r2"]]
-    alone = split_pots(path_lengths(grid, approach), {"r1": lengths_from(grid, docks["r1"], approach)}, aisles)
+    alone = split_pots(path_lengths(grid, approach), {"r1": fd["r1"]}, aisles, per_pot=0.0)
     assert s.makespan < 0.8 * alone.makespan  # 4 m aisles: the drive to the aisles is most of a tour
+    # with each pot's stop counted the middle aisle's eight pots are too many for one robot: shared
+    stops = split_pots(path_lengths(grid, approach), fd, aisles)
+    assert sorted(len(o) for o in stops.parts.values()) == [6, 6]
+    assert abs(stops.cost("r1") - stops.cost("r2")) < 2.0 and stops.makespan < 0.95 * s.makespan + 8 * PER_POT_M
 
 
 def test_twelve_aisles_two_or_three_robots_split_into_near_equal_blocks():
@@ -128,4 +133,4 @@ def test_twelve_aisles_two_or_three_robots_split_into_near_equal_blocks():
     docks = {"r1": (0.0, -0.5), "r2": (0.0, 5.5), "r3": (0.0, 11.5)}
     three = split_pots(between, from_docks(pts, docks), labels)
     alone = split_pots(between, from_docks(pts, {"r1": docks["r1"]}), labels)
-    assert three.makespan <= 0.35 * alone.makespan and max(three.lengths.values()) - min(three.lengths.values()) < 2.0
+    assert three.makespan <= 0.36 * alone.makespan and max(three.lengths.values()) - min(three.lengths.values()) < 2.0
