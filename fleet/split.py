@@ -1,8 +1,8 @@
 """The fleet's split: which robot inspects which pots, so that the last robot is home soonest.
 
 spec/fleet.md "The fleet patrol": the pots go to the robots that are up, each robot driving a
-tour from its own dock through its pots and back, and the figure that counts is the longest of
-those tours (the makespan). That is the min-max multiple-depot travelling salesman problem; a
+tour from its own dock through its pots and back and stopping at each, and the figure that
+counts is the longest of those (the makespan; a stop costs ``PER_POT_M`` of driving). That is the min-max multiple-depot travelling salesman problem; a
 dispatcher needs a good answer in seconds, so this is the usual local search on it (Golden,
 Laporte & Taillard, "An adaptive memory heuristic for a class of vehicle routing problems with
 minmax objective", 1997, its improvement step): start each pot at its nearest dock, then keep
