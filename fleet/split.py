@@ -2,11 +2,11 @@
 
 spec/fleet.md "The fleet patrol": the pots go to the robots that are up, each robot driving a
 tour from its own dock through its pots and back and stopping at each, and the figure that
-counts is the longest of those (the makespan; a stop costs ``PER_POT_M`` of driving). That is the min-max multiple-depot travelling salesman problem; a
-dispatcher needs a good answer in seconds, so this is the usual local search on it (Golden,
-Laporte & Taillard, "An adaptive memory heuristic for a class of vehicle routing problems with
-minmax objective", 1997, its improvement step): start each pot at its nearest dock, then keep
-moving a piece from the robot with the longest tour to another robot, or trading it for one of
+counts is the longest of those (the makespan; a stop costs ``PER_POT_M`` of driving). That is
+the min-max multiple-depot travelling salesman problem; a dispatcher needs a good answer in
+seconds, so this is the usual local search on it (Golden, Laporte & Taillard, "An adaptive
+memory heuristic for a class of vehicle routing problems with minmax objective", 1997, its
+improvement step): start each pot at its nearest dock, then keep moving a piece from the robot with the longest tour to another robot, or trading it for one of
 theirs, while that shortens the makespan. Each robot's tour is ``nav.tour``'s (nearest
 neighbour, 2-opt, Or-opt); a trial move is scored by cutting the piece out of one tour and
 inserting it whole, both ways round, at its cheapest place in the other (exact for the orders
