@@ -6,11 +6,12 @@ counts is the longest of those (the makespan; a stop costs ``PER_POT_M`` of driv
 the min-max multiple-depot travelling salesman problem; a dispatcher needs a good answer in
 seconds, so this is the usual local search on it (Golden, Laporte & Taillard, "An adaptive
 memory heuristic for a class of vehicle routing problems with minmax objective", 1997, its
-improvement step): start each pot at its nearest dock, then keep moving a piece from the robot with the longest tour to another robot, or trading it for one of
-theirs, while that shortens the makespan. Each robot's tour is ``nav.tour``'s (nearest
-neighbour, 2-opt, Or-opt); a trial move is scored by cutting the piece out of one tour and
-inserting it whole, both ways round, at its cheapest place in the other (exact for the orders
-tried, and an upper bound on the tour the robot will drive).
+improvement step): start each pot at its nearest dock, then keep moving a piece from the robot
+with the longest tour to another robot, or trading it for one of theirs, while that shortens the
+makespan. Each robot's tour is ``nav.tour``'s (nearest neighbour, 2-opt, Or-opt); a trial move
+is scored by cutting the piece out of one tour and inserting it whole, both ways round, at its
+cheapest place in the other (exact for the orders tried, and an upper bound on the tour the
+robot will drive).
 
 A piece is an aisle (spec/fleet.md "Aisles": robots must not criss-cross, and two robots in one
 aisle wait on each other's lock), so the split first moves whole aisles; then, from that
