@@ -27,7 +27,7 @@ def test_in_dock_frame_moves_a_pot_into_the_robots_own_map():
     assert in_dock_frame(pot, (0.0, 0.0, 0.0)) == pot
 
 
-def test_two_docks_get_their_own_missions_of_whole_aisles_ending_at_their_docks():
+def test_two_docks_get_their_own_balanced_missions_in_their_own_frames_ending_at_their_docks():
     m = tiny_mission()
     docks = {"r1": (1.0, 0.5, 0.0), "r2": (6.0, 3.5, math.pi)}
     a = assign(m, greenhouse_grid(), docks, occupancy=OccupancyMap(greenhouse_occupancy(), RES, 0.0, 0.0))
