@@ -30,6 +30,11 @@ STALE_S = 1.0
 LOG_LINES = 200
 
 
+def _finite(value: float | None) -> float:
+    """A number off the wire, nan for null (JSON has no nan)."""
+    return float("nan") if value is None else float(value)
+
+
 class LinkClient:
     def __init__(self, endpoint: str | None, robot: str, *, clock: Callable[[], float], token: str = "",
                  timeout: float = 3.0, tls: TlsFiles | None = None, session: zenoh.Session | None = None):
@@ -92,9 +97,8 @@ class LinkClient:
             v.estop_engaged, v.estop_latched = m["estop"]["engaged"], m["estop"]["latched"]
             v.estop_why = m["estop"].get("why", "")
             b = m["battery"]
-            v.battery_voltage = b["voltage"] if b["voltage"] is not None else float("nan")
-            v.battery_percentage = b["percentage"] if b["percentage"] is not None else float("nan")
-            v.battery_current = b["current"] if b.get("current") is not None else float("nan")
+            v.battery_voltage, v.battery_percentage = _finite(b["voltage"]), _finite(b["percentage"])
+            v.battery_current = _finite(b.get("current"))
             v.battery_low = b["low"]
             v.people = [PersonView.row(r) for r in m.get("people", ())]  # left out: nobody tracked
         elif topic == "nav":
@@ -106,6 +110,9 @@ class LinkClient:
         elif topic == "mission":
             v.mission_state, v.mission_name, v.mission_step = m["state"], m["name"], m["step"]
             v.mission_outcome = m["outcome"]
+            energy = m.get("energy") or {}
+            v.charge, v.charge_at_dock = _finite(energy.get("charge")), _finite(energy.get("at_dock"))
+            v.heading_home = energy.get("why_home") or ""
         elif topic == "pots":
             v.pots = [PotView(p["id"], p["x"], p["y"], p["status"], p["tag"], p["flower"], p["blooms"], p["anomalies"])
                       for p in m["pots"]]

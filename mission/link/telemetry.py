@@ -7,7 +7,8 @@ state      fast 10Hz  pose (map), velocity, active mux source, e-stop (engaged, 
                       and ``people`` while the tracker follows anyone (``PERSON_FIELDS``, map
                       frame; the key is left out when nobody is tracked)
 nav        slow 2Hz   navigation state and reason, goal, the plan (every 4th point)
-mission    slow 2Hz   mission state, name, current step, pots done / total, outcome
+mission    slow 2Hz   mission state, name, current step, pots done / total, outcome, and the
+                      energy budget's charge, charge expected at the dock and why it heads home
 tree       slow 2Hz   py_trees' unicode tree with statuses, zlib'd UTF-8, when it changed (and
                       every 10th beat, for late joiners)
 pots       slow 2Hz   each pot: position, status, tag read, flower, anomalies
@@ -48,6 +49,10 @@ TOPICS = ("state", "nav", "mission", "tree", "pots", "status", "scan", "map", "c
 
 def _r(v: float, nd: int = 3) -> float | None:
     return round(float(v), nd) if math.isfinite(v) else None
+
+
+def _share(v: float | None) -> float | None:
+    return None if v is None else _r(v)
 
 
 class Telemetry:
@@ -113,8 +118,10 @@ class Telemetry:
             return
         tree, holds = run.tree, run.tree.holds
         state = "estop" if holds.latched else "paused" if holds.paused else "running"
+        e = tree.energy
         msg = {"state": state, "name": tree.mission.name, "step": tree.current_step(), "pots_done": tree.pots_done(),
-               "pots_total": len(tree.mission.pots), "outcome": ""}
+               "pots_total": len(tree.mission.pots), "outcome": "",
+               "energy": {"charge": _share(e.charge), "at_dock": _share(e.projected), "why_home": e.why_home}}
         self._post("mission", lambda: dumps(msg))
         text = tree.render()
         self._beats += 1

@@ -147,6 +147,12 @@ class RobotView:
     mission_name: str = ""
     mission_step: str = ""
     mission_outcome: str = ""
+    charge: float = float("nan")
+    """The patrol's energy budget: the pack's charge, 0..1 (nan: no patrol, or no reading yet)."""
+    charge_at_dock: float = float("nan")
+    """The charge the budget expects on reaching the dock after the next pot, 0..1."""
+    heading_home: str = ""
+    """Why the patrol is heading home to charge ('' while it is not)."""
     tree: str = ""
     """py_trees' unicode tree with statuses."""
     pots: list[PotView] = field(default_factory=list)

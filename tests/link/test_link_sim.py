@@ -46,6 +46,8 @@ def test_two_consoles_see_the_same_robot_and_mission(runtime):
         assert wait_for(lambda: a.view().mission_state == "running" and b.view().mission_state == "running")
         assert wait_for(lambda: a.view().grid is not None and b.view().grid is not None and len(a.view().pots) == 12)
         assert wait_for(lambda: a.view().tree and b.view().tree)
+        assert wait_for(lambda: 0.5 < a.view().charge <= 1.0)  # the patrol's energy budget, on the console
+        assert a.view().heading_home == ""
         assert wait_for(lambda: {"state", "nav", "mission", "tree", "pots", "status", "scan", "map", "costmap"} <= set(a.received))
         assert set(a.received) <= set(TOPICS)  # every topic documented in mission.link.telemetry
         assert wait_for(lambda: abs(a.view().t - b.view().t) <= 0.2)  # the same state messages, as they arrive

@@ -25,3 +25,13 @@ def test_the_monitor_turned_off_is_a_red_chip():
     v.monitor_enabled = False
     c = chip(v, "COLLISION MONITOR OFF")
     assert c is not None and c.style == ALARM
+
+
+def test_the_patrols_charge_its_charge_at_the_dock_and_why_it_heads_home_are_chips():
+    v = idle_view()
+    assert "charge" not in status_text(v).plain and "heading home" not in status_text(v).plain
+    v.charge, v.charge_at_dock = 0.42, 0.19
+    assert chip(v, "charge 42%, 19% at the dock") is not None
+    v.heading_home = "before P102: charge 18%"
+    c = chip(v, "heading home: before P102: charge 18%")
+    assert c is not None and c.style == "bold black on yellow"

@@ -31,6 +31,11 @@ def status_chips(v: RobotView) -> list[Text]:
         chips.append(Text(f" {battery} LOW ", ALARM) if v.battery_low else Text(battery, "green"))
     else:
         chips.append(Text("battery ?", "dim"))
+    if math.isfinite(v.charge):
+        dock = f", {v.charge_at_dock:.0%} at the dock" if math.isfinite(v.charge_at_dock) else ""
+        chips.append(Text(f"charge {v.charge:.0%}{dock}"))
+    if v.heading_home:
+        chips.append(Text(f" heading home: {v.heading_home} ", "bold black on yellow"))
     mission = Text(f"mission: {v.mission_state}" + (f" {v.mission_name}" if v.mission_name else ""),
                    "bold" if v.mission_state in ("running", "paused", "estop") else "")
     if v.mission_state == "done" and v.mission_outcome:
