@@ -29,7 +29,7 @@ NEAR_SPEED = 0.15
 #: jitters (``in_lane`` within ``wait_clearance``).
 TOUCH = 0.05
 #: How far ahead a direction to step out along must be free of pots and walls, m.
-EVADE_LOOK = 0.4
+EVADE_LOOK = 0.3
 #: A person faster than this is walking somewhere: step sideways to their way, m/s.
 WALKING = 0.2
 #: The fan of directions tried round "away from them" for someone not walking (or no side of a
