@@ -61,6 +61,7 @@ from hw.odometry import Pose2D
 from hw.people import PeopleSource, nobody
 from nav.config import NavConfig
 from nav.people_nearby import PeopleNearby
+from nav.waits import LANE, Waits  # noqa: F401  (LANE: the reason the goal holds, for callers)
 from nav.costmap.grid import INSCRIBED, UNKNOWN, CostGrid
 from nav.frames import compose, distance, inverse, transform_path, transform_points
 from nav.goal_checker import GoalChecker
@@ -87,8 +88,6 @@ TERMINAL = (State.SUCCEEDED, State.FAILED, State.CANCELED)
 #: Least time between two replans triggered by a blocked path or a failed plan (the 1 Hz replan still runs): a
 #: plan the local costmap disagrees with is redone at once, but not on every 50 ms control tick.
 BLOCKED_REPLAN_GAP = 0.5
-#: Why the goal holds while the robot steps out of a walker's lane (``waiting_for``).
-LANE = "out of a walker's way"
 #: Room the global costmap takes in round the robot and the goal before a plan, m: the planner's
 #: 0.5 m goal tolerance and the robot's footprint fit inside it.
 COVER_MARGIN = 1.0
@@ -146,7 +145,7 @@ class Sources:
     """The person tracker's people, ``odom`` frame (the costmaps' person layers read the same)."""
 
 
-class Navigator:
+class Navigator(Waits):
     def __init__(self, config: NavConfig, sources: Sources, localisation: Localisation,
                  local_costmap: Costmap, global_costmap: Costmap, planner: Planner, controller: Controller,
                  readiness: Readiness | None = None):
@@ -290,34 +289,6 @@ class Navigator:
             self.blind = blind
         return blind
 
-    def _boxed_in(self, now: float, dt: float) -> bool:
-        """While every cell round the robot is taken (``StartBlocked``: someone against it), hold
-        still for up to ``blocked_wait``, replanning at 1 Hz, instead of failing goal after goal
-        in a blink. True while waiting or when the wait ran out."""
-        if not self._start_blocked:
-            return False
-        if not self._hold(now, dt, "boxed in: every cell round the robot is taken"):
-            self.io.publish(ZERO_TWIST, now)
-        return True
-
-    def _waiting(self, now: float, dt: float) -> bool:
-        """While the collision monitor holds the base, the goal's clocks (its deadline and its
-        progress check) stop, for at most ``blocked_wait`` seconds of holding in all: a person
-        who keeps stepping in and out of the way adds up. True when that ran out and the goal
-        failed ``blocked``. When what holds it is a person (within ``wait_clearance``: a grower
-        who stopped for the robot, waiting for it to leave their way), the robot steps back
-        from them instead of pressing on, for up to ``person_wait``: pressing on, robot and
-        grower waited for each other until the goal failed."""
-        if not self.io.held():
-            return False
-        back = self._evade(self.people.layer.wait_clearance) if self.people.counted() else ZERO_TWIST
-        if back == ZERO_TWIST:
-            return self._hold(now, dt, "something in the way")
-        self.smoother.reset()
-        if not self._hold(now, dt, "a person close by", self.config.navigator.person_wait):
-            self.io.publish(back, now)
-        return True
-
     def _hold(self, now: float, dt: float, why: str, wait: float | None = None) -> bool:
         """Count ``dt`` of waiting against ``wait`` (``blocked_wait`` when None) with the goal's
         clocks stopped; True when the wait ran out and the goal failed ``blocked``."""
@@ -332,46 +303,6 @@ class Navigator:
         if self._checkpoint is not None:
             self._checkpoint = (self._checkpoint[0], self._checkpoint[1] + dt)
         return False
-
-    def _waiting_for_people(self, now: float, dt: float) -> bool:
-        """Hold still while a person stands in the only way or on the goal (module docstring).
-        True while waiting (zero twist published) or when the wait ran out."""
-        why = ""
-        if self._person_blocks:
-            why = "a person in the only way"
-        elif self.people.in_keep_out(self.goal.x, self.goal.y):
-            why = "a person at the goal"
-        if why != self.waiting_for:
-            if why:
-                log.info("waiting: %s", why)
-            self.waiting_for = why
-        if not why:
-            return False
-        self.smoother.reset()
-        if not self._hold(now, dt, why, self.config.navigator.person_wait):  # at a distance: ``wait_clearance``
-            self.io.publish(self._evade(self.people.layer.wait_clearance), now)
-        return True
-
-    def _out_of_a_lane(self, now: float, dt: float) -> bool:
-        """Step out of the lane of someone walking this way while they are still metres off
-        (``nav.people_nearby``); True while stepping (or when the wait ran out)."""
-        if not self.people.in_lane(self.io.odom_pose()):
-            return False
-        if self.waiting_for != LANE:
-            log.info("waiting: %s", LANE)
-            self.waiting_for = LANE
-        self.smoother.reset()
-        if not self._hold(now, dt, LANE, self.config.navigator.person_wait):
-            self.io.publish(self._evade(reach=self.people.layer.lane_time), now)
-        return True
-
-    def _person_close(self) -> bool:
-        """Is the robot itself inside a person's keep-out (they came to it, or are coming)?"""
-        pose = self.map_pose()
-        return self.people.in_keep_out(pose.x, pose.y)
-
-    def _evade(self, clearance: float | None = None, reach: float | None = None) -> Twist:
-        return self.people.evade(self.io.odom_pose(), self.local_costmap.without_people(), clearance, reach)
 
     def _progressing(self, pose: Pose2D, now: float) -> bool:
         """Nav2's SimpleProgressChecker: moving ``progress_radius`` from the last checkpoint
@@ -419,19 +350,6 @@ class Navigator:
         self._person_blocks = self._start_blocked = False
         self._replans += 1
         self._last_plan = now
-        return True
-
-    def _only_people_block(self, pose: Pose2D) -> bool:
-        """With people about, would there be a plan once they stepped aside (or is the robot in
-        a person's keep-out, so that no plan can start)?"""
-        if not self.people.in_map():
-            return False
-        if self._person_close():
-            return True
-        try:
-            self.planner.plan(self.global_costmap.without_people(), (pose.x, pose.y), (self.goal.x, self.goal.y))
-        except PlanningError:
-            return False
         return True
 
     def _follow(self, pose: Pose2D, now: float, dt: float) -> None:

@@ -1,0 +1,107 @@
+"""The goal's waits for people and for room (issue 28 item 2), the navigator's side of them.
+
+Each is asked by ``Navigator.tick_control`` before it follows its plan, and each either lets the
+goal go on (False) or holds it (True), counting the wait against ``person_wait`` or
+``blocked_wait`` through the navigator's ``_hold`` and publishing what the robot does meanwhile
+(zero, or a step out of the way from ``nav.people_nearby``). Why each exists is in
+``nav.navigator``'s docstring; a mixin, so the navigator module stays the goal's life and these
+its pauses.
+"""
+from __future__ import annotations
+
+import logging
+
+from hw.interfaces import ZERO_TWIST, Twist
+from hw.odometry import Pose2D
+from nav.planner import PlanningError
+
+log = logging.getLogger("nav.navigator")
+
+#: Why the goal holds while the robot steps out of a walker's lane (``waiting_for``).
+LANE = "out of a walker's way"
+
+
+class Waits:
+    """Mixed into ``nav.navigator.Navigator``: reads its ``io``, ``people``, ``goal``,
+    ``local_costmap``, ``global_costmap``, ``planner``, ``smoother`` and ``config``."""
+
+    def _boxed_in(self, now: float, dt: float) -> bool:
+        """While every cell round the robot is taken (``StartBlocked``: someone against it), hold
+        still for up to ``blocked_wait``, replanning at 1 Hz, instead of failing goal after goal
+        in a blink. True while waiting or when the wait ran out."""
+        if not self._start_blocked:
+            return False
+        if not self._hold(now, dt, "boxed in: every cell round the robot is taken"):
+            self.io.publish(ZERO_TWIST, now)
+        return True
+
+    def _waiting(self, now: float, dt: float) -> bool:
+        """While the collision monitor holds the base, the goal's clocks (its deadline and its
+        progress check) stop, for at most ``blocked_wait`` seconds of holding in all: a person
+        who keeps stepping in and out of the way adds up. True when that ran out and the goal
+        failed ``blocked``. When what holds it is a person (within ``wait_clearance``: a grower
+        who stopped for the robot, waiting for it to leave their way), the robot steps back
+        from them instead of pressing on, for up to ``person_wait``: pressing on, robot and
+        grower waited for each other until the goal failed."""
+        if not self.io.held():
+            return False
+        back = self._evade(self.people.layer.wait_clearance) if self.people.counted() else ZERO_TWIST
+        if back == ZERO_TWIST:
+            return self._hold(now, dt, "something in the way")
+        self.smoother.reset()
+        if not self._hold(now, dt, "a person close by", self.config.navigator.person_wait):
+            self.io.publish(back, now)
+        return True
+
+    def _waiting_for_people(self, now: float, dt: float) -> bool:
+        """Hold still while a person stands in the only way or on the goal (module docstring).
+        True while waiting (zero twist published) or when the wait ran out."""
+        why = ""
+        if self._person_blocks:
+            why = "a person in the only way"
+        elif self.people.in_keep_out(self.goal.x, self.goal.y):
+            why = "a person at the goal"
+        if why != self.waiting_for:
+            if why:
+                log.info("waiting: %s", why)
+            self.waiting_for = why
+        if not why:
+            return False
+        self.smoother.reset()
+        if not self._hold(now, dt, why, self.config.navigator.person_wait):  # at a distance: ``wait_clearance``
+            self.io.publish(self._evade(self.people.layer.wait_clearance), now)
+        return True
+
+    def _out_of_a_lane(self, now: float, dt: float) -> bool:
+        """Step out of the lane of someone walking this way while they are still metres off
+        (``nav.people_nearby``); True while stepping (or when the wait ran out)."""
+        if not self.people.in_lane(self.io.odom_pose()):
+            return False
+        if self.waiting_for != LANE:
+            log.info("waiting: %s", LANE)
+            self.waiting_for = LANE
+        self.smoother.reset()
+        if not self._hold(now, dt, LANE, self.config.navigator.person_wait):
+            self.io.publish(self._evade(reach=self.people.layer.lane_time), now)
+        return True
+
+    def _person_close(self) -> bool:
+        """Is the robot itself inside a person's keep-out (they came to it, or are coming)?"""
+        pose = self.map_pose()
+        return self.people.in_keep_out(pose.x, pose.y)
+
+    def _evade(self, clearance: float | None = None, reach: float | None = None) -> Twist:
+        return self.people.evade(self.io.odom_pose(), self.local_costmap.without_people(), clearance, reach)
+
+    def _only_people_block(self, pose: Pose2D) -> bool:
+        """With people about, would there be a plan once they stepped aside (or is the robot in
+        a person's keep-out, so that no plan can start)?"""
+        if not self.people.in_map():
+            return False
+        if self._person_close():
+            return True
+        try:
+            self.planner.plan(self.global_costmap.without_people(), (pose.x, pose.y), (self.goal.x, self.goal.y))
+        except PlanningError:
+            return False
+        return True
