@@ -57,13 +57,19 @@ class RobotRun:
     handover_reason: str | None = None
     path_xy: np.ndarray | None = None
     """Its driven path in the fleet's map frame (N, 2), for the picture."""
+    reports: list[str] | None = None
+    """Its reports' files under the fleet's directory, one per patrol (default: ``<robot>/report.json``)."""
+
+    def files(self) -> list[str]:
+        return list(self.reports) if self.reports is not None else [f"{self.robot}/report.json"]
 
     def done(self) -> list[str]:
         return [p["id"] for p in self.report.get("pots", []) if p.get("status") == "inspected"]
 
 
-def fleet_summary(mission: str, pots: Sequence[str], runs: Sequence[RobotRun]) -> dict:
-    """``fleet.json``'s document for the mission's ``pots`` (ids) and each robot's run."""
+def fleet_summary(mission: str, pots: Sequence[str], runs: Sequence[RobotRun], handovers: Sequence[Mapping] = ()) -> dict:
+    """``fleet.json``'s document for the mission's ``pots`` (ids) and each robot's run;
+    ``handovers``: each hand-over's pots, ``from``, ``to``, ``why`` and when (``at_s``)."""
     for r in runs:
         if r.handover_reason is not None and r.handover_reason not in REASONS:
             raise ValueError(f"{r.robot}: handover reason {r.handover_reason!r} is none of {REASONS}")
@@ -72,11 +78,11 @@ def fleet_summary(mission: str, pots: Sequence[str], runs: Sequence[RobotRun]) -
     robots = {r.robot: {"assigned": list(r.assigned), "received": list(r.received), "done": r.done(),
                         "handed_over": list(r.handed_over), "handover_reason": r.handover_reason,
                         "outcome": r.report.get("outcome"), "robot_time_s": float(r.report.get("sim_time_s", 0.0)),
-                        "report": f"{r.robot}/report.json"} for r in runs}
+                        "report": next(iter(r.files()), None), "reports": r.files()} for r in runs}
     return {"mission": mission, "makespan_s": max((v["robot_time_s"] for v in robots.values()), default=0.0),
             "complete": not missing, "pots": {"total": len(pots), "inspected": len(pots) - len(missing),
                                               "not_inspected": missing},
-            "robots": robots}
+            "robots": robots, "handovers": [dict(h) for h in handovers]}
 
 
 def draw_fleet(occupancy: OccupancyMap | None, where: Mapping[str, tuple[float, float]],
@@ -123,10 +129,10 @@ def _legend(runs: Sequence[RobotRun], width: int) -> np.ndarray:
 
 
 def write_fleet_report(out: Path, mission: str, pots: Mapping[str, tuple[float, float]], runs: Sequence[RobotRun],
-                       occupancy: OccupancyMap | None = None) -> dict:
+                       occupancy: OccupancyMap | None = None, handovers: Sequence[Mapping] = ()) -> dict:
     """Write ``out/fleet.json`` and ``out/fleet.png`` (atomically); returns the summary.
     ``pots``: the mission's pots, id -> (x, y) in the fleet's map frame, in the mission's order."""
-    summary = fleet_summary(mission, list(pots), runs)
+    summary = fleet_summary(mission, list(pots), runs, handovers)
     out.mkdir(parents=True, exist_ok=True)
     write_atomic(out / "fleet.json", (json.dumps(summary, indent=2) + "\n").encode())
     ok, png = cv2.imencode(".png", draw_fleet(occupancy, pots, runs))

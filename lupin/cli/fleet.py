@@ -106,3 +106,40 @@ def router(
             signal.signal(s, handler)
         session.close()
     print("lupin router: stopped", flush=True)
+
+
+@fleet_app.command("patrol")
+def fleet_patrol(
+    ctx: typer.Context,
+    mission: Path = typer.Option(..., "--mission", help="The mission (spec/mission.md), in the first dock's map frame."),
+    robots: Optional[str] = typer.Option(None, "--robots", help="Only these robots, comma-separated; each must be up."),
+    connect: Optional[str] = typer.Option(None, "--connect", help="The router (default tls/127.0.0.1:7447)."),
+    certs: Optional[Path] = typer.Option(None, "--certs", help="The fleet's certificates; the dispatcher's are dispatcher.pem/.key."),
+    no_tls: bool = typer.Option(False, "--no-tls", help="Plain TCP to a --no-tls router: a bench on one machine only."),
+    report: Path = typer.Option(Path("lupin-fleet"), "--report", help="Directory for each robot's report, fleet.json, fleet.png."),
+    world: Optional[Path] = typer.Option(None, "--world", help="The sim world: its spawns are the docks, its plan the map."),
+    map_path: Optional[Path] = typer.Option(None, "--map", help="A saved map in the mission's frame to split on (a farm)."),
+) -> None:
+    """Split a mission's pots between the robots up, send each its part, follow them, hand a lost one's pots over."""
+    from fleet.fleet_patrol import fleet_patrol as run, read_inputs, robots_option
+    from lupin.cli.sim import run_config
+    from mission.link.session import check_endpoint
+
+    endpoint = check_endpoint(connect or ("tcp/127.0.0.1:7447" if no_tls else "tls/127.0.0.1:7447"), "--connect")
+    if no_tls and (certs is not None or endpoint.startswith("tls/")):
+        raise InputError("lupin fleet patrol --no-tls: no --certs and no tls/ endpoint with it")
+    if not no_tls and not endpoint.startswith("tls/"):
+        raise InputError(f"lupin fleet patrol --connect {endpoint}: the router serves tls/ (or give --no-tls)")
+    if no_tls:
+        print("lupin fleet patrol: WARNING --no-tls: plain TCP, no access control", file=sys.stderr, flush=True)
+    tls = None if no_tls else tls_for(certs, "dispatcher", endpoint)
+    config = run_config(ctx)
+    inputs = read_inputs(mission, world, map_path, config)
+    summary = run(inputs, endpoint, tls, robots_option(robots), report, config,
+                  lambda line: print(f"lupin fleet patrol: {line}", flush=True))
+    pots = summary["pots"]
+    print(f"lupin fleet patrol: {'complete' if summary['complete'] else 'INCOMPLETE'}, {pots['inspected']}/{pots['total']} "
+          f"pots inspected by {len(summary['robots'])} robots, makespan {summary['makespan_s']:.1f} s robot time "
+          f"({report}/fleet.json)", flush=True)
+    if not summary["complete"]:
+        raise typer.Exit(1)

@@ -72,6 +72,8 @@ class Service:
     """Where every patrol it runs is recorded (``mission.history``); None: nowhere."""
     world: str | None = None
     """The sim world's name, for the history; None on the robot."""
+    report_path: Path | None = None
+    """The current or last patrol's report.json (the ``report`` command reads it)."""
     _calibration: Calibration | None = None
     _writing: list[PatrolRecorder] = field(default_factory=list)
     _count: int = 0
@@ -137,7 +139,7 @@ class Service:
         for recorder in self._writing:  # the last patrol's rows are in before this one compares with them
             recorder.wait(2.0, retry=False)
         self._count += 1
-        report = self.runs / f"{m.name}-{self._count}" / "report.json"
+        report = self.report_path = self.runs / f"{m.name}-{self._count}" / "report.json"
         self.run = start_patrol(self.robot, self.nav, m, self.config, self.perception, report, self.wall_now,
                                 lambda: None, self.climate, self.truth_error, history=self.history, world=self.world)
         for listener in self.on_run:
@@ -210,6 +212,16 @@ class Service:
             raise CommandRefused(str(exc)) from None
         except SQLAlchemyError as exc:
             raise CommandRefused(f"history: {self.history.shown}: {reason(exc)}") from None
+
+    def report(self) -> bytes:
+        """The current or last patrol's report.json as written so far (a fleet's dispatcher
+        keeps each robot's report, spec/fleet.md, without reaching into the robot's disk)."""
+        if self.report_path is None:
+            raise CommandRefused("report: no patrol has started yet")
+        try:
+            return self.report_path.read_bytes()
+        except OSError as exc:
+            raise CommandRefused(f"report: {self.report_path}: {exc.strerror}") from None
 
     def snapshot(self, camera: str) -> bytes:
         frame = self.cameras[camera].request()

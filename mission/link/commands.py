@@ -76,7 +76,7 @@ SCHEMAS: dict[str, type[_Args]] = {
     "estop": EStopArgs, "resume": NoArgs, "pause": NoArgs, "mission_start": MissionStartArgs,
     "mission_abort": NoArgs, "teleop": TeleopArgs, "arm_preset": ArmPresetArgs, "gripper": GripperArgs,
     "clear_map": NoArgs, "heal": NoArgs, "snapshot": SnapshotArgs, "history": HistoryArgs,
-    "arm_calibrate": ArmCalibrateArgs,
+    "arm_calibrate": ArmCalibrateArgs, "report": NoArgs,
 }
 MAX_PAYLOAD = 64 * 1024
 """Bytes: a mission of a few hundred pots fits; anything bigger is not a command."""

@@ -32,6 +32,7 @@ COMMANDS: dict[str, str] = {
     "heal": "",
     "snapshot": "camera: front | wrist -> JPEG bytes",
     "history": "query: patrols | pot | changes | pests, pot, mission, last, limit -> JSON (mission.history.answers)",
+    "report": "-> the current or last patrol's report.json (spec/report.md; the fleet dispatcher's)",
     "arm_calibrate": "action: start | commit | cancel | status -> JSON: phase, joints, note, outcomes (hw only)",
 }
 

@@ -22,6 +22,7 @@ from hw.errors import InputError
 from hw.input_file import read_yaml
 from mission.history.config import HistoryConfig
 from mission.link.config import LinkConfig
+from mission.link.fleet_config import FleetConfig
 from mission.patrol.config import PatrolConfig, SurveyConfig
 from mission.runtime.settings import RuntimeConfig
 from nav.config import NavConfig
@@ -53,6 +54,8 @@ class LupinConfig(BaseModel):
     """`lupin survey`: exploring a greenhouse and finding its pots by their tags."""
     link: LinkConfig = LinkConfig()
     """The operator link (Zenoh): robot name, endpoint, token, telemetry rates."""
+    fleet: FleetConfig = FleetConfig()
+    """A fleet patrol's dispatcher: when a stopped robot's pots go to the others, the docks."""
     history: HistoryConfig = HistoryConfig()
     """The patrol history (spec/history.md): where every patrol is recorded."""
     runtime: RuntimeConfig = RuntimeConfig()
