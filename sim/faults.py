@@ -12,7 +12,7 @@ import numpy as np
 
 from sim.cameras import SimCamera
 from sim.engine import Engine
-from sim.greenhouse import SPARE_BOXES
+from sim.greenhouse import PARKED_Z, SPARE_BOXES
 from sim.lidar import SimLidar
 from sim.sensors import SimBattery, SimEStopButton
 from sim.servos import SimServoBus
@@ -23,15 +23,15 @@ class SimFaults:
                  button: SimEStopButton, cameras: dict[str, SimCamera], controllers=None,
                  pots: dict[str, tuple[float, float]] | None = None, walkers=None):
         self.engine = engine
-        self.pots = dict(pots or {})
-        """Each pot's centre (world frame), where it stands now."""
+        self.pots = {} if pots is None else pots
+        """Each pot's centre (world frame), where it stands now: the scene's, which every robot's
+        faults share (``sim.scene``)."""
         self._lidar = lidar
         self._servos = servos
         self._battery = battery
         self._button = button
         self._cameras = cameras
         self.controllers = controllers
-        self._boxes_used = 0
         self._walkers = walkers
 
     def estop(self, engaged: bool) -> None:
@@ -71,12 +71,13 @@ class SimFaults:
 
     def place_box(self, x: float, y: float, sx: float, sy: float, yaw: float = 0.0, h: float = 0.5) -> None:
         """Drop a box on the floor (world frame, full sizes), from the model's spare boxes."""
-        if self._boxes_used >= SPARE_BOXES:
-            raise ValueError(f"at most {SPARE_BOXES} boxes can be placed in one run")
         m, d = self.engine.model, self.engine.data
-        body = self.engine.id(mujoco.mjtObj.mjOBJ_BODY, f"spare_box_{self._boxes_used}")
-        geom = self.engine.id(mujoco.mjtObj.mjOBJ_GEOM, f"spare_box_{self._boxes_used}_geom")
-        self._boxes_used += 1
+        bodies = [self.engine.id(mujoco.mjtObj.mjOBJ_BODY, f"spare_box_{k}") for k in range(SPARE_BOXES)]
+        parked = [k for k, b in enumerate(bodies) if d.mocap_pos[m.body_mocapid[b], 2] == PARKED_Z]
+        if not parked:  # a box placed by any robot's faults is taken: they share the world's spares
+            raise ValueError(f"at most {SPARE_BOXES} boxes can be placed in one run")
+        body = bodies[parked[0]]
+        geom = self.engine.id(mujoco.mjtObj.mjOBJ_GEOM, f"spare_box_{parked[0]}_geom")
         m.geom_size[geom] = (sx / 2, sy / 2, h / 2)
         m.geom_rbound[geom] = math.sqrt((sx / 2) ** 2 + (sy / 2) ** 2 + (h / 2) ** 2)
         m.geom_aabb[geom] = (0.0, 0.0, 0.0, sx / 2, sy / 2, h / 2)  # the broad phase reads this

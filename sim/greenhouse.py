@@ -48,6 +48,7 @@ from __future__ import annotations
 import math
 import tempfile
 from pathlib import Path
+from typing import Sequence
 from xml.sax.saxutils import quoteattr
 
 import mujoco
@@ -60,6 +61,11 @@ from sim.world import Obstacle, Pot, World
 
 ROBOT_XML: Path = Path(__file__).resolve().parent / "models" / "mirte_master" / "mirte_master.xml"
 """The robot model, included (never copied) by every greenhouse."""
+
+ROBOT_SETTINGS = ('<compiler angle="radian" autolimits="true"/>\n'
+                  '  <option timestep="0.005" integrator="implicitfast"/>')
+"""What the robot file sets for the whole model (its ``<compiler>`` and ``<option>``): a world
+that attaches its robots (a fleet's) must say it itself, as attaching takes only the robot."""
 
 SPARE_BOXES = 4
 """Mocap boxes parked under the floor for run-time ``place_box`` faults."""
@@ -107,18 +113,31 @@ _FOLIAGE = (  # (x, y, z above the pot rim, radius, material): a low mound of le
 )
 
 
-def build_greenhouse(world: World, geometry: GreenhouseGeometry | None = None) -> mujoco.MjModel:
-    """Compile ``world`` (with the robot at the origin; the backend sets its pose) to a model."""
+def build_greenhouse(world: World, geometry: GreenhouseGeometry | None = None,
+                     robots: Sequence[str] = ("",)) -> mujoco.MjModel:
+    """Compile ``world`` (with the robots at the origin; the backend sets their poses) to a model.
+
+    ``robots``: one name prefix per robot. The default, one robot with no prefix, is the robot
+    file ``<include>``d as it is. A fleet's robots (``("r1/", "r2/")``) are attached to the
+    compiled world with MjSpec, each copy's names (bodies, joints, geoms, sites, cameras,
+    actuators, sensors, materials) under its prefix: ``<include>`` cannot rename, and the
+    backend finds each robot's devices by its prefixed names (``sim.scope``)."""
     with tempfile.TemporaryDirectory(prefix="lupin_greenhouse_") as tmp:
-        xml = greenhouse_xml(world, geometry, Path(tmp))
-        return mujoco.MjModel.from_xml_string(xml)
+        if tuple(robots) == ("",):
+            return mujoco.MjModel.from_xml_string(greenhouse_xml(world, geometry, Path(tmp)))
+        spec = mujoco.MjSpec.from_string(greenhouse_xml(world, geometry, Path(tmp), robot=False))
+        for prefix in robots:
+            spec.attach(mujoco.MjSpec.from_file(str(ROBOT_XML)), prefix=prefix, frame=spec.worldbody.add_frame())
+        return spec.compile()
 
 
-def greenhouse_xml(world: World, geometry: GreenhouseGeometry | None, asset_dir: Path) -> str:
+def greenhouse_xml(world: World, geometry: GreenhouseGeometry | None, asset_dir: Path, robot: bool = True) -> str:
     """MJCF text of ``world``; writes the tag plate textures (``tag_<n>.png``) into ``asset_dir``.
 
     The text refers to the robot file and the textures by absolute path, so it compiles from a
-    string (``MjModel.from_xml_string``) as long as ``asset_dir`` exists.
+    string (``MjModel.from_xml_string``) as long as ``asset_dir`` exists. ``robot`` False leaves
+    the robot out (a fleet's are attached after, ``build_greenhouse``) and states the robot
+    file's compiler and option settings itself, which the world's numbers (radians) rely on.
     """
     g = geometry or GreenhouseGeometry()
     asset_dir = Path(asset_dir).resolve()
@@ -142,8 +161,9 @@ def greenhouse_xml(world: World, geometry: GreenhouseGeometry | None, asset_dir:
     body += [_walker(w) for w in world.walkers]
     body.append(_overview_camera(fx, fy, g))
 
+    head = f"<include file={quoteattr(str(ROBOT_XML))}/>" if robot else ROBOT_SETTINGS
     return f"""<mujoco model={quoteattr('greenhouse ' + world.name)}>
-  <include file={quoteattr(str(ROBOT_XML))}/>
+  {head}
 
   <statistic center="{fx / 2:.4f} {fy / 2:.4f} 0.5" extent="{extent:.4f}"/>
   <visual>

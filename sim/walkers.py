@@ -3,8 +3,8 @@
 Each walker goes along its path at its speed, waits ``pause`` seconds at each end and walks it
 back (ping-pong), from ``start`` seconds on; a path of one point is a worker who stays there.
 It does not yield to the robot, except that it stops while its next step would bring its body
-within ``KEEP_CLEAR`` of the robot's (people do not walk into a machine) and goes on when that
-is clear; a walker with ``yields: false`` does not even do that (the robot alone keeps clear).
+within ``KEEP_CLEAR`` of a robot's (people do not walk into a machine; with a fleet, the one
+nearest that step) and goes on when that is clear; a walker with ``yields: false`` does not even do that (the robot alone keeps clear).
 Its body for that rule (and for the judges' clearance) is what it stands on the floor with at
 the robot's height, its legs and its cart, or a crouching worker's one compact block
 (``footprint_gap``); the robot's is the ``ROBOT_RADIUS`` circle. The motion is
@@ -87,9 +87,9 @@ def _box_gap(u: float, v: float, hu: float, hv: float) -> float:
 
 
 class SimWalkers:
-    def __init__(self, engine: Engine, walkers, robot_xy):
-        """``robot_xy()``: the robot's true position (the rule needs where the machine is)."""
-        self.engine, self.robot_xy = engine, robot_xy
+    def __init__(self, engine: Engine, walkers, robots_xy):
+        """``robots_xy()``: every robot's true position (the rule needs where the machines are)."""
+        self.engine, self.robots_xy = engine, robots_xy
         self._walks = {}
         for w in walkers:
             path = np.asarray(w.path, dtype=float)
@@ -123,7 +123,7 @@ class SimWalkers:
         dt, self._last = (0.0 if self._last is None else t - self._last), t
         if dt <= 0:
             return
-        rx, ry = self.robot_xy()
+        robots = self.robots_xy()
         for w in self._walks.values():
             if w.held or t < w.start or t < w.resume_at or w.lengths[-1] == 0.0:
                 continue  # held, not started, pausing at an end, or a worker who stays put
@@ -131,10 +131,11 @@ class SimWalkers:
             s = min(max(w.s + step, 0.0), w.lengths[-1])
             (x, y), (x0, y0) = w.at(s), w.at(w.s)
             heading = math.atan2(y - y0, x - x0) if s != w.s else w.heading
-            if w.yields:
-                gap = footprint_gap(x, y, heading, w.half, rx, ry, w.crouching) - ROBOT_RADIUS
+            if w.yields and robots:
+                gap, rx, ry = min((footprint_gap(x, y, heading, w.half, rx, ry, w.crouching) - ROBOT_RADIUS, rx, ry)
+                                  for rx, ry in robots)
                 if gap < KEEP_CLEAR and gap < footprint_gap(x0, y0, w.heading, w.half, rx, ry, w.crouching) - ROBOT_RADIUS:
-                    continue  # the next step would come too close to the machine: wait (a step away is fine)
+                    continue  # the next step would come too close to the nearest machine: wait (a step away is fine)
             w.heading = heading
             w.s = s
             if s in (0.0, w.lengths[-1]) and (s == w.lengths[-1]) == w.forward:

@@ -178,6 +178,12 @@ class World(StrictEntry):
         """Each robot's start pose: ``spawns``, or the one ``spawn``."""
         return list(self.spawns) if self.spawns else [self.spawn]
 
+    def for_robot(self, index: int) -> "World":
+        """The world as a fleet's robot ``index`` (0-based) knows it: starting and charging at its
+        own spawn, so its default mission, its map frame and its dock are its own."""
+        pose = self.spawn_poses[index]
+        return self.model_copy(update={"spawn": pose, "dock": pose})
+
     def climate_readings(self) -> dict[int, dict[str, float]]:
         """The climate table as a greenhouse data source hands it out: per tag, the known fields."""
         return {tag: c.model_dump(exclude_none=True) for tag, c in self.climate.items()}

@@ -12,6 +12,7 @@ import json
 import signal
 import sys
 import threading
+import time
 from pathlib import Path
 from typing import Optional
 
@@ -58,32 +59,38 @@ def tls_for(certs: Path | None, name: str, endpoint: str, option: str = "--certs
     return None
 
 
-def router(
-    listen: Optional[str] = typer.Option(None, "--listen", help="Endpoint to listen on (default tls/0.0.0.0:7447)."),
+def router_options(listen: str | None, certs: Path | None, no_tls: bool, who: str):
+    """The router's endpoint, its TLS files and the fleet's members from the options (``--no-tls``:
+    plain TCP, no access control, said loudly on stderr; the default endpoint on 0.0.0.0:7447)."""
+    from fleet.members import read_members
+    from fleet.router import DEFAULT_LISTEN
+    from mission.link.session import check_endpoint
+
+    endpoint = check_endpoint(listen or (DEFAULT_LISTEN.replace("tls/", "tcp/") if no_tls else DEFAULT_LISTEN), "--listen")
+    if no_tls:
+        if endpoint.startswith("tls/") or certs is not None:
+            raise InputError(f"{who} --no-tls: no --certs and no tls/ endpoint with it")
+        print(f"{who}: WARNING --no-tls: plain TCP and NO access control; anyone who reaches "
+              f"{endpoint} can read and command every robot. A bench on one machine only.", file=sys.stderr, flush=True)
+        return endpoint, None, None
+    if not endpoint.startswith("tls/"):
+        raise InputError(f"{who} --listen {endpoint}: the router serves tls/ (or give --no-tls)")
+    if certs is None:
+        raise InputError(f"{who}: give --certs DIR (lupin fleet certs -o DIR), or --no-tls for a bench")
+    members = read_members(certs)
+    return endpoint, tls_for(certs, "router", endpoint), members
+
+
+def router(    listen: Optional[str] = typer.Option(None, "--listen", help="Endpoint to listen on (default tls/0.0.0.0:7447)."),
     certs: Optional[Path] = typer.Option(None, "--certs", help="The fleet's certificates (lupin fleet certs -o DIR)."),
     no_tls: bool = typer.Option(False, "--no-tls", help="Plain TCP, no access control: a bench on one machine only."),
     write_config: Optional[Path] = typer.Option(None, "--write-config", metavar="FILE",
                                                 help="Write the router's config as JSON (for zenohd -c FILE) and exit."),
 ) -> None:
     """The fleet's Zenoh router: TLS with mutual authentication and access control by name."""
-    from fleet.members import read_members
-    from fleet.router import DEFAULT_LISTEN, open_router, router_settings
-    from mission.link.session import check_endpoint
+    from fleet.router import open_router, router_settings
 
-    endpoint = check_endpoint(listen or (DEFAULT_LISTEN.replace("tls/", "tcp/") if no_tls else DEFAULT_LISTEN), "--listen")
-    if no_tls:
-        if endpoint.startswith("tls/") or certs is not None:
-            raise InputError("lupin router --no-tls: no --certs and no tls/ endpoint with it")
-        print("lupin router: WARNING --no-tls: plain TCP and NO access control; anyone who reaches "
-              f"{endpoint} can read and command every robot. A bench on one machine only.", file=sys.stderr, flush=True)
-        tls, members = None, None
-    else:
-        if not endpoint.startswith("tls/"):
-            raise InputError(f"lupin router --listen {endpoint}: the router serves tls/ (or give --no-tls)")
-        if certs is None:
-            raise InputError("lupin router: give --certs DIR (lupin fleet certs -o DIR), or --no-tls for a bench")
-        members = read_members(certs)
-        tls = tls_for(certs, "router", endpoint)
+    endpoint, tls, members = router_options(listen, certs, no_tls, "lupin router")
     if write_config is not None:
         try:
             write_config.write_text(json.dumps(router_settings(endpoint, tls, members), indent=2) + "\n")
@@ -106,6 +113,76 @@ def router(
             signal.signal(s, handler)
         session.close()
     print("lupin router: stopped", flush=True)
+
+
+@fleet_app.command("sim")
+def fleet_sim(
+    ctx: typer.Context,
+    robots: int = typer.Option(..., "--robots", min=1, max=9, help="How many robots, named r1..rN."),
+    world: Optional[Path] = typer.Option(None, "--world", help="World file with a spawn per robot (spawns:); default: "
+                                                              "a generated greenhouse with one dock per robot."),
+    listen: Optional[str] = typer.Option(None, "--listen", help="The router's endpoint (default tls/0.0.0.0:7447)."),
+    fast: bool = typer.Option(False, "--fast", help="Run as fast as the machine allows instead of real time."),
+    certs: Optional[Path] = typer.Option(None, "--certs", help="The fleet's certificates, with r1..rN among its robots."),
+    no_tls: bool = typer.Option(False, "--no-tls", help="Plain TCP, no access control: a bench on one machine only."),
+    runs: Path = typer.Option(Path("lupin-runs"), "--runs", help="Robot R's patrols go to RUNS/R/<mission>-<k>/."),
+    history: Optional[str] = typer.Option(None, "--history", metavar="URL",
+                                          help="Record every patrol here (default: history.url); none: nowhere."),
+) -> None:
+    """N simulated robots in one greenhouse, each a runtime joined to an in-process router."""
+    from fleet.router import open_router
+    from lupin.cli.patrol import open_patrol_history
+    from lupin.cli.sim import run_config, world_or_default
+    from mission.jobs.fleet_sim import robot_config, run_fleet, start_fleet_sim
+    from mission.link.server import LinkServer
+    from mission.runtime.config import with_overrides
+    from sim.generate import generate_world
+
+    config = run_config(ctx)
+    endpoint, tls, members = router_options(listen, certs, no_tls, "lupin fleet sim")
+    names = [f"r{k}" for k in range(1, robots + 1)]
+    if members is not None:
+        missing = [n for n in names if n not in members.robots]
+        if missing:
+            raise InputError(f"--certs {certs}: no robot {', '.join(missing)} in its fleet (lupin fleet certs --robots "
+                             f"{','.join(names)} -o DIR)")
+    robot_tls = {n: tls_for(certs, n, endpoint) for n in names}
+    w = generate_world(max(3, robots - 1), 4, 1, robots=robots) if world is None else world_or_default(world)
+    if len(w.spawn_poses) < robots:
+        raise InputError(f"--world {world}: {robots} robots need {robots} spawns, it has {len(w.spawn_poses)} "
+                         f"(spawns: in spec/world.md; lupin sim generate --robots {robots} writes them)")
+    config = with_overrides(config, {"sim": {"realtime": not fast}})
+    stores = {n: open_patrol_history(robot_config(config, n), history) for n in names}
+    fleet = start_fleet_sim(w, config, names, runs, time.perf_counter, stores.get)
+    router_session = open_router(endpoint, tls, members)
+    connect = endpoint.replace("0.0.0.0", "127.0.0.1")
+    servers = []
+    try:
+        for n, service in fleet.services.items():
+            servers.append(LinkServer(service, service.config.link, None if tls else (config.link.token or None),
+                                      connect=connect, tls=robot_tls[n]))
+    except BaseException:
+        for server in servers:
+            server.close()
+        fleet.close()
+        router_session.close()
+        raise
+    print(f"lupin fleet sim: {w.name}: robots {', '.join(names)} through the router on {endpoint}"
+          f"{' (fast)' if fast else ''}", flush=True)
+
+    def on_close() -> None:
+        for server in servers:
+            server.close()
+
+    stop = threading.Event()
+    previous = {s: signal.signal(s, lambda *_: stop.set()) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        run_fleet(fleet, stop, on_close)
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+        router_session.close()
+    print("lupin fleet sim: stopped", flush=True)
 
 
 @fleet_app.command("patrol")

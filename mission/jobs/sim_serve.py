@@ -19,14 +19,16 @@ from mission.runtime.config import LupinConfig
 from mission.runtime.navigation import attach_navigation
 from mission.runtime.sim_runtime import start_sim_runtime
 from nav.frames import compose, inverse
+from sim.scene import SimScene
 from sim.world import World
 
 
 def start_sim_service(world: World, config: LupinConfig, runs: Path, wall_now: Callable[[], float],
-                      history: History | None = None) -> Service:
+                      history: History | None = None, scene: SimScene | None = None, name: str = "") -> Service:
     """The service on the simulated greenhouse: the world's climate, truth for judging pots;
-    every patrol recorded in ``history`` under the world's name."""
-    rt = start_sim_runtime(world, config)
+    every patrol recorded in ``history`` under the world's name. In a fleet's ``scene``, the
+    robot ``name``, with ``world`` as that robot knows it (``World.for_robot``: its own spawn and dock)."""
+    rt = start_sim_runtime(world, config, scene, name)
     nav = attach_navigation(rt.robot)
     dock = inverse(Pose2D(world.spawn.x, world.spawn.y, world.spawn.yaw))
 

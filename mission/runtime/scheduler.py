@@ -10,6 +10,7 @@ same seed, same order of events, same trajectory.
 from __future__ import annotations
 
 import heapq
+import math
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -67,6 +68,13 @@ class Scheduler:
     @property
     def tasks(self) -> list[str]:
         return list(self._tasks)
+
+    def next_due(self) -> float:
+        """When the next task is due, runtime time (``inf`` with none): runtimes sharing one
+        simulator step in lock-step by always stepping the one due first (``mission.jobs.fleet_sim``)."""
+        while self._heap and not self._heap[0].active:
+            heapq.heappop(self._heap)
+        return self._heap[0].due_ns / _NS if self._heap else math.inf
 
     def run_until(self, t_end: float) -> None:
         """Run every task due up to and including ``t_end``, then bring the clock to ``t_end``."""

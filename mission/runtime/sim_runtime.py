@@ -16,6 +16,7 @@ from mission.runtime.config import LupinConfig
 from mission.runtime.robot import Robot, build_robot
 from mission.runtime.state_dir import state_directory
 from sim.backend import SimRobot
+from sim.scene import SimScene
 from sim.world import World
 
 
@@ -33,10 +34,11 @@ class SimRuntime:
             shutil.rmtree(self.state, ignore_errors=True)
 
 
-def start_sim_runtime(world: World, config: LupinConfig) -> SimRuntime:
-    """Build the sim and the services on it and schedule them (nothing has run yet)."""
+def start_sim_runtime(world: World, config: LupinConfig, scene: SimScene | None = None, name: str = "") -> SimRuntime:
+    """Build the sim and the services on it and schedule them (nothing has run yet). ``scene``:
+    a fleet's greenhouse to put the robot ``name`` in (``sim.scene``); None: one of its own."""
     controllers = ControllerManager(config.hw.controllers)
-    sim = SimRobot(world, config.sim, config.hw, controllers)
+    sim = SimRobot(world, config.sim, config.hw, controllers, scene=scene, name=name)
     state = state_directory(config.runtime, "sim")
     robot = build_robot(config, sim.hal, controllers, state)
     robot.start()

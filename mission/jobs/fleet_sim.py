@@ -1,0 +1,78 @@
+"""`lupin fleet sim`: one simulated greenhouse, a runtime per robot, all in lock-step.
+
+The robots share one MuJoCo world (``sim.scene``: they see each other on the lidar and the
+cameras, their chassis collide), and each has all a robot has: its own HAL on its own parts,
+controllers, scheduler, state directory, navigator, service and, joined to the fleet's router,
+its own link under its own name (spec/fleet.md "The fleet in the sim"). Nothing passes between
+them but through the router.
+
+Lock-step: the runtime whose next task is due first takes the next step (ties in robot order),
+so the shared engine is always exactly at the time each task runs for, never ahead of any
+runtime, and a fleet's run is a function of its seed like one robot's. Real time (``sim.realtime``)
+paces that one engine to the wall clock; ``--fast`` lets it run as fast as the machine allows.
+"""
+from __future__ import annotations
+
+import threading
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+from mission.history.store import History
+from mission.jobs.serve import Service
+from mission.jobs.sim_serve import start_sim_service
+from mission.runtime.config import LupinConfig, with_overrides
+from sim.scene import SimScene
+from sim.world import World
+
+
+@dataclass
+class FleetSim:
+    scene: SimScene
+    services: dict[str, Service]
+    """Each robot's service, by name, in robot order."""
+
+    def step(self) -> None:
+        """One step of the runtime due first."""
+        min(self.services.values(), key=lambda s: s.robot.scheduler.next_due()).step()
+
+    def close(self) -> None:
+        for service in self.services.values():
+            service.close()
+        self.scene.close()
+
+
+def robot_config(config: LupinConfig, name: str) -> LupinConfig:
+    """Robot ``name``'s config: its link name and, when the config names one, its own state
+    directory inside it (two soft-stop latches must never share a file)."""
+    update: dict = {"link": {"robot": name}}
+    if config.runtime.state_dir is not None:
+        update["runtime"] = {"state_dir": str(Path(config.runtime.state_dir) / name)}
+    return with_overrides(config, update)
+
+
+def start_fleet_sim(world: World, config: LupinConfig, names: list[str], runs: Path, wall_now: Callable[[], float],
+                    history: Callable[[str], History | None] = lambda name: None) -> FleetSim:
+    """The scene with a robot per name at the world's spawns (in order) and a service on each;
+    robot ``name``'s patrols go to ``runs/<name>/`` and into ``history(name)``."""
+    scene = SimScene(world, config.sim, names)
+    services: dict[str, Service] = {}
+    try:
+        for k, name in enumerate(names):
+            services[name] = start_sim_service(world.for_robot(k), robot_config(config, name), Path(runs) / name,
+                                               wall_now, history(name), scene=scene, name=name)
+    except BaseException:
+        FleetSim(scene, services).close()
+        raise
+    return FleetSim(scene, services)
+
+
+def run_fleet(fleet: FleetSim, stop: threading.Event, on_close: Callable[[], None] = lambda: None) -> None:
+    """Step ``fleet`` until ``stop`` is set, then close it on this same thread (the renderers
+    belong to the thread that made them). ``on_close`` runs first (the links)."""
+    try:
+        while not stop.is_set():
+            fleet.step()
+    finally:
+        on_close()
+        fleet.close()
