@@ -1,0 +1,57 @@
+"""Runtimes in lock-step on one simulated greenhouse (``mission.jobs.fleet_sim``): each robot's
+commands move it and no other, each runtime's clock is the engine's time when it steps, and a
+fleet's run is the same for the same seed."""
+from __future__ import annotations
+
+import math
+import time
+
+import pytest
+
+from mission.jobs.fleet_sim import FleetSim, start_fleet_sim
+from mission.runtime.config import LupinConfig, with_overrides
+from sim.generate import generate_world
+
+pytestmark = pytest.mark.slow
+
+WORLD = generate_world(3, 4, 1, robots=2)
+
+
+def drive_r1(tmp_path, until: float) -> tuple[FleetSim, list[tuple[float, float]]]:
+    """Two robots; r1 is told to drive forward (its own service's teleop, every 0.2 s), r2 is left
+    alone; steps the fleet to ``until`` s of runtime time. Returns the fleet and, at every step,
+    (the engine's time before it, the time the step was due at)."""
+    config = with_overrides(LupinConfig(), {"sim": {"realtime": False}})
+    fleet = start_fleet_sim(WORLD, config, ["r1", "r2"], tmp_path, time.perf_counter)
+    r1 = fleet.services["r1"]
+    r1.robot.scheduler.every("test.teleop", 5.0, lambda now: r1.teleop(0.2, 0.0, 0.0))
+    steps = []
+    while min(s.now for s in fleet.services.values()) < until:
+        steps.append((fleet.scene.engine.time, min(s.robot.scheduler.next_due() for s in fleet.services.values())))
+        fleet.step()
+    return fleet, steps
+
+
+def test_r1s_command_moves_r1_and_not_r2_and_no_runtime_runs_behind_the_engine(tmp_path):
+    fleet, steps = drive_r1(tmp_path, 4.0)
+    try:
+        truth = fleet.scene.truths()
+        r1, r2 = (WORLD.spawn_poses[k] for k in (0, 1))
+        assert truth["r1"].x - r1.x > 0.3 and abs(truth["r1"].y - r1.y) < 0.05
+        assert math.hypot(truth["r2"].x - r2.x, truth["r2"].y - r2.y) < 0.01
+        assert fleet.services["r2"].robot.base.odometry.pose.x == pytest.approx(0.0, abs=0.01)
+        assert all(engine <= due + 1e-9 for engine, due in steps)  # lock-step: the engine never ahead of a step
+        assert fleet.services["r1"].robot.config.link.robot == "r1" and fleet.services["r2"].robot.config.link.robot == "r2"
+    finally:
+        fleet.close()
+
+
+def test_a_fleet_runs_the_same_for_the_same_seed(tmp_path):
+    runs = []
+    for k in range(2):
+        fleet, _ = drive_r1(tmp_path / str(k), 3.0)
+        try:
+            runs.append((fleet.scene.truths(), {n: s.robot.base.odometry.pose for n, s in fleet.services.items()}))
+        finally:
+            fleet.close()
+    assert runs[0] == runs[1]
