@@ -144,6 +144,8 @@ class AisleLockServer:
             self._publish()
 
     def _on_roster(self) -> None:
+        if not hasattr(self, "roster"):  # the tokens already held, told while the roster is declared: nothing held yet
+            return
         if self.table.keep_only(set(self.roster.robots())):
             self._publish()
 

@@ -9,9 +9,10 @@ and the ``report`` query for each robot's report.json. It hosts the aisle locks'
 (``fleet.aisle_locks.AisleLockServer``) for as long as it runs.
 
 Following a robot: a patrol has ended when the report the robot answers has an outcome (its
-telemetry saying ``done`` only asks sooner). While it runs, its report is fetched every
-``REPORT_EVERY`` s, so a robot that dies leaves the report as it last wrote it (rewritten after
-every pot).
+telemetry saying ``done`` only asks sooner). While it runs, its report is fetched whenever its
+telemetry shows a pot inspected that the last fetch did not have, and every ``REPORT_EVERY`` s,
+so a robot that dies leaves the report as it last wrote it (rewritten after every pot), short
+at most of the pot it finished as it died.
 
 A robot drops out (``fleet.handover``) when its liveliness goes (the roster), when its e-stop is
 held longer than ``fleet.handover_after`` s of its own clock while another robot could go on
@@ -167,12 +168,24 @@ class Dispatcher:
         data = part.model_dump(mode="json")
         data["pots"] = [p.model_dump(mode="json", exclude_none=True) for p in part.pots]
         error = m.client.send("mission_start", mission=data)
-        if error is not None:
+        if error is not None and not self._started(m, part):
             raise DispatchError(f"{m.name} refused its patrol: {error}")
         m.assigned += [p.id for p in part.pots if p.id not in m.assigned]
         m.on_patrol, m.current, m.fetched_at = True, None, float("-inf")
         if m.t0 is None:
             m.t0 = m.client.view().t
+
+    def _started(self, m: Member, part: Mission) -> bool:
+        """Did the patrol start after all (the answer lost or late: a busy runtime takes the
+        command after the link's timeout)? Its telemetry says so within ``timeout``."""
+        deadline = self.clock() + self.timeout
+        while self.clock() < deadline:
+            v = m.client.view()
+            if v.mission_name == part.name and v.mission_state in ("running", "paused", "estop") and \
+                    len(v.pots) == len(part.pots):
+                return True
+            time.sleep(POLL)
+        return False
 
     # --- following ---------------------------------------------------------------------------
     def step(self) -> bool:
@@ -199,7 +212,8 @@ class Dispatcher:
             p = compose(Pose2D(*m.dock), Pose2D(*v.pose))
             if not m.path or abs(m.path[-1][0] - p.x) + abs(m.path[-1][1] - p.y) > 0.05:
                 m.path.append((p.x, p.y))
-        if v.mission_state == "done" or self.clock() - m.fetched_at > REPORT_EVERY:
+        seen = sum(p.status == "inspected" for p in v.pots) if v.mission_name == self.mission.name else 0
+        if v.mission_state == "done" or seen > len(m.inspected()) or self.clock() - m.fetched_at > REPORT_EVERY:
             self._fetch(m)
             if m.current is not None and m.current.get("outcome") is not None:
                 m.reports.append(m.current)

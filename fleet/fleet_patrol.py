@@ -31,7 +31,7 @@ from nav.occupancy import OccupancyMap
 
 ROBOT_NAME = re.compile(r"^r([1-9][0-9]*)$")
 JOIN_WAIT = 3.0
-"""Seconds to wait for the robots' liveliness tokens: the roster's history answers at once,
+"""Seconds to wait for the robots' liveliness tokens (all of --robots): the roster's history answers at once,
 a robot joining as the dispatcher starts within a second."""
 
 
@@ -92,7 +92,7 @@ def fleet_patrol(inputs: Inputs, endpoint: str, tls: TlsFiles | None, robots: Se
     d = Dispatcher(session, inputs.mission, inputs.docks, cost_grid(inputs.occupancy, config.nav.costmap),
                    inputs.occupancy, config.fleet.handover_after, say=say)
     try:
-        up = d.wait_for_robots(robots, JOIN_WAIT if robots is None else 30.0)
+        up = d.wait_for_robots(robots, JOIN_WAIT)
         say(f"{len(inputs.mission.pots)} pots of {inputs.mission.name!r} between {', '.join(up)} "
             f"(split on {inputs.where_map})")
         d.start(up)

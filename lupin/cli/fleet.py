@@ -198,6 +198,7 @@ def fleet_patrol(
     map_path: Optional[Path] = typer.Option(None, "--map", help="A saved map in the mission's frame to split on (a farm)."),
 ) -> None:
     """Split a mission's pots between the robots up, send each its part, follow them, hand a lost one's pots over."""
+    from fleet.dispatcher import DispatchError
     from fleet.fleet_patrol import fleet_patrol as run, read_inputs, robots_option
     from lupin.cli.sim import run_config
     from mission.link.session import check_endpoint
@@ -212,8 +213,12 @@ def fleet_patrol(
     tls = None if no_tls else tls_for(certs, "dispatcher", endpoint)
     config = run_config(ctx)
     inputs = read_inputs(mission, world, map_path, config)
-    summary = run(inputs, endpoint, tls, robots_option(robots), report, config,
-                  lambda line: print(f"lupin fleet patrol: {line}", flush=True))
+    try:
+        summary = run(inputs, endpoint, tls, robots_option(robots), report, config,
+                      lambda line: print(f"lupin fleet patrol: {line}", flush=True))
+    except DispatchError as exc:  # a robot up that would not take its part: the job failed, not the input
+        print(f"lupin fleet patrol: {exc}", file=sys.stderr, flush=True)
+        raise typer.Exit(1) from None
     pots = summary["pots"]
     print(f"lupin fleet patrol: {'complete' if summary['complete'] else 'INCOMPLETE'}, {pots['inspected']}/{pots['total']} "
           f"pots inspected by {len(summary['robots'])} robots, makespan {summary['makespan_s']:.1f} s robot time "

@@ -3,7 +3,8 @@
 The roster (``mission.link.roster``) says who is up; a ``LinkClient`` per robot, all on the one
 session, folds each robot's telemetry as it comes, so switching the robot shown (keys 1-9) is
 instant and a fleet view can draw every robot. It is a ``Commands`` like ``LinkClient``: what
-the console sends goes to the robot shown; ``stop_fleet`` stops them all (``lupin/fleet/stop``).
+the console sends goes to the robot shown; ``stop_fleet`` stops them all (``lupin/fleet/stop``),
+``resume_fleet`` releases every robot's soft stop and resumes its patrol (commands: a console's).
 A robot that dies stays in its slot only while it is shown, its view going stale (NO LINK); the
 roster drops it from the list within a second.
 """
@@ -93,6 +94,15 @@ class FleetLink:
     def stop_fleet(self) -> list[str]:
         """Engage every robot's soft stop; the robots that answered."""
         return stop_fleet(self.session, self.timeout)
+
+    def resume_fleet(self) -> dict[str, str | None]:
+        """Release every robot's soft stop and resume its patrol where it held: per robot up,
+        None when it resumed, else why not."""
+        out = {}
+        for robot in self.robots():
+            c = self.client(robot)
+            out[robot] = c.send("estop", engaged=False) or c.send("resume")
+        return out
 
     def close(self) -> None:
         self.roster.close()
