@@ -2,7 +2,9 @@
 
 ``SimRobot(world, sim_config, hw_config)`` builds the greenhouse model from a world file, places the robot at
 the world's spawn pose, and wires every simulated device into a ``hw.interfaces.Hal`` whose
-clock advances the physics. Above the HAL nothing knows it is simulated.
+clock advances the physics. Above the HAL nothing knows it is simulated. With ``scene=`` and
+``name=`` it is one robot of a fleet's greenhouse (``sim.scene``): its devices on its own
+prefixed parts, at its own spawn and dock, its clock advancing the shared engine.
 """
 from __future__ import annotations
 

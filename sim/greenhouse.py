@@ -2,7 +2,9 @@
 
 The robot is not described here: the generated MJCF ``<include>``s
 ``sim/models/mirte_master/mirte_master.xml`` by absolute path, so that file stays the single
-source of the robot (its README says where its numbers come from). This module adds what the
+source of the robot (its README says where its numbers come from). A fleet's greenhouse
+attaches the same file once per robot, each copy's names under its prefix (``r1/chassis``;
+``build_greenhouse``), all at the origin until the backend sets each robot's pose. This module adds what the
 world file describes, with the fixed geometry of :class:`sim.config.GreenhouseGeometry`:
 
 - a floor plane over [0, x] x [0, y] and four 2 m walls around it;
@@ -24,9 +26,10 @@ world file describes, with the fixed geometry of :class:`sim.config.GreenhouseGe
 - an orthographic ``overview`` camera looking straight down at the whole floor.
 
 Geom groups: 0 = world collision geoms (floor, walls, pots, obstacles, boxes: what the lidar
-sees), 1 = the robot, 2 = visual decoration (foliage, blooms, pests, tag plates: the lidar
+sees), 1 = the robots (the lidar sees another robot's arm and lidar puck too), 2 = visual decoration (foliage, blooms, pests, tag plates: the lidar
 ignores them). Collision bits: world statics contype = conaffinity = 3 and the floor 1/1, so
-the robot's chassis (2/2) is stopped by statics but never touches the floor.
+the robot's chassis (2/2) is stopped by statics but never touches the floor; a fleet's chassis
+also touch each other (2 on 2), which the judges count (``sim.scene``).
 
 Colours are chosen against the flower detector's HSV table (reference/upstream.md, OpenCV
 H 0..179) and checked on real renders (tests/sim/test_greenhouse.py): blooms fall in their own

@@ -5,8 +5,10 @@ the latest scan, from the pose at that moment (the scan is not smeared over the 
 the base's speeds that is well under the range noise). Noise for revolution k is drawn from a
 generator seeded by (seed, k), so what a run sees does not depend on who asked when.
 
-Rays see world collision geoms (group 0) and the robot's own geoms (group 1), so, as in the
-original sim, the lidar sees the robot's arm; consumers filter returns below 0.25 m (seed).
+Rays see world collision geoms (group 0) and the robots' geoms (group 1), all but the lidar's own
+body, so, as in the original sim, the lidar sees the robot's arm; consumers filter returns below
+0.25 m (seed). In a fleet it sees the other robots the same way, as what stands in its 0.21 m
+plane: their arms and lidar pucks (their chassis top out at 0.135 m, below it).
 Returns outside [range_min, range_max] are ``inf`` (the C1 reports 0 = no return).
 """
 from __future__ import annotations

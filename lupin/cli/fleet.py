@@ -4,7 +4,8 @@
 and the dispatcher (``fleet.certs``). ``router`` runs zenoh's router mode with the fleet's TLS
 and access control (``fleet.router``) until Ctrl-C or SIGTERM; ``--no-tls`` (plain TCP, no
 access control: anyone on the network may command any robot) is for a bench on one machine
-and says so on every start.
+and says so on every start. ``fleet sim`` runs such a router in-process with robots r1..rN in
+one simulated greenhouse (``mission.jobs.fleet_sim``), each joined to it under its own name.
 """
 from __future__ import annotations
 
@@ -81,7 +82,8 @@ def router_options(listen: str | None, certs: Path | None, no_tls: bool, who: st
     return endpoint, tls_for(certs, "router", endpoint), members
 
 
-def router(    listen: Optional[str] = typer.Option(None, "--listen", help="Endpoint to listen on (default tls/0.0.0.0:7447)."),
+def router(
+    listen: Optional[str] = typer.Option(None, "--listen", help="Endpoint to listen on (default tls/0.0.0.0:7447)."),
     certs: Optional[Path] = typer.Option(None, "--certs", help="The fleet's certificates (lupin fleet certs -o DIR)."),
     no_tls: bool = typer.Option(False, "--no-tls", help="Plain TCP, no access control: a bench on one machine only."),
     write_config: Optional[Path] = typer.Option(None, "--write-config", metavar="FILE",
@@ -133,54 +135,40 @@ def fleet_sim(
     from fleet.router import open_router
     from lupin.cli.patrol import open_patrol_history
     from lupin.cli.sim import run_config, world_or_default
-    from mission.jobs.fleet_sim import robot_config, run_fleet, start_fleet_sim
-    from mission.link.server import LinkServer
+    from mission.jobs.fleet_sim import fleet_world, robot_config, run_fleet, start_fleet_sim
     from mission.runtime.config import with_overrides
-    from sim.generate import generate_world
 
-    config = run_config(ctx)
+    config = with_overrides(run_config(ctx), {"sim": {"realtime": not fast}})
     endpoint, tls, members = router_options(listen, certs, no_tls, "lupin fleet sim")
     names = [f"r{k}" for k in range(1, robots + 1)]
-    if members is not None:
-        missing = [n for n in names if n not in members.robots]
-        if missing:
-            raise InputError(f"--certs {certs}: no robot {', '.join(missing)} in its fleet (lupin fleet certs --robots "
-                             f"{','.join(names)} -o DIR)")
+    missing = [n for n in names if members is not None and n not in members.robots]
+    if missing:
+        raise InputError(f"--certs {certs}: no robot {', '.join(missing)} in its fleet (lupin fleet certs --robots "
+                         f"{','.join(names)} -o DIR)")
     robot_tls = {n: tls_for(certs, n, endpoint) for n in names}
-    w = generate_world(max(3, robots - 1), 4, 1, robots=robots) if world is None else world_or_default(world)
+    w = fleet_world(robots) if world is None else world_or_default(world)
     if len(w.spawn_poses) < robots:
         raise InputError(f"--world {world}: {robots} robots need {robots} spawns, it has {len(w.spawn_poses)} "
                          f"(spawns: in spec/world.md; lupin sim generate --robots {robots} writes them)")
-    config = with_overrides(config, {"sim": {"realtime": not fast}})
     stores = {n: open_patrol_history(robot_config(config, n), history) for n in names}
-    fleet = start_fleet_sim(w, config, names, runs, time.perf_counter, stores.get)
     router_session = open_router(endpoint, tls, members)
-    connect = endpoint.replace("0.0.0.0", "127.0.0.1")
-    servers = []
     try:
-        for n, service in fleet.services.items():
-            servers.append(LinkServer(service, service.config.link, None if tls else (config.link.token or None),
-                                      connect=connect, tls=robot_tls[n]))
-    except BaseException:
-        for server in servers:
-            server.close()
-        fleet.close()
-        router_session.close()
-        raise
-    print(f"lupin fleet sim: {w.name}: robots {', '.join(names)} through the router on {endpoint}"
-          f"{' (fast)' if fast else ''}", flush=True)
-
-    def on_close() -> None:
-        for server in servers:
-            server.close()
-
-    stop = threading.Event()
-    previous = {s: signal.signal(s, lambda *_: stop.set()) for s in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        run_fleet(fleet, stop, on_close)
+        fleet = start_fleet_sim(w, config, names, runs, time.perf_counter, stores.get)
+        try:  # with certificates no operator token: the router's access control says who commands
+            fleet.join(endpoint.replace("0.0.0.0", "127.0.0.1"), robot_tls.get, None if tls else config.link.token or None)
+        except BaseException:
+            fleet.close()
+            raise
+        print(f"lupin fleet sim: {w.name}: robots {', '.join(names)} through the router on {endpoint}"
+              f"{' (fast)' if fast else ''}", flush=True)
+        stop = threading.Event()
+        previous = {s: signal.signal(s, lambda *_: stop.set()) for s in (signal.SIGINT, signal.SIGTERM)}
+        try:
+            run_fleet(fleet, stop)
+        finally:
+            for s, handler in previous.items():
+                signal.signal(s, handler)
     finally:
-        for s, handler in previous.items():
-            signal.signal(s, handler)
         router_session.close()
     print("lupin fleet sim: stopped", flush=True)
 

@@ -14,14 +14,17 @@ paces that one engine to the wall clock; ``--fast`` lets it run as fast as the m
 from __future__ import annotations
 
 import threading
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
 from mission.history.store import History
 from mission.jobs.serve import Service
 from mission.jobs.sim_serve import start_sim_service
+from mission.link.server import LinkServer
+from mission.link.session import TlsFiles
 from mission.runtime.config import LupinConfig, with_overrides
+from sim.generate import generate_world
 from sim.scene import SimScene
 from sim.world import World
 
@@ -31,15 +34,31 @@ class FleetSim:
     scene: SimScene
     services: dict[str, Service]
     """Each robot's service, by name, in robot order."""
+    links: list[LinkServer] = field(default_factory=list)
 
     def step(self) -> None:
         """One step of the runtime due first."""
         min(self.services.values(), key=lambda s: s.robot.scheduler.next_due()).step()
 
+    def join(self, endpoint: str, tls: Callable[[str], TlsFiles | None], token: str | None) -> None:
+        """Each robot's link joins the router at ``endpoint`` under its name (``tls(name)``: its
+        certificate; ``token``: the operator token its commands need, None for none)."""
+        for name, service in self.services.items():
+            self.links.append(LinkServer(service, service.config.link, token, connect=endpoint, tls=tls(name)))
+
     def close(self) -> None:
+        """The links first (no command reaches a runtime being closed), then the runtimes."""
+        for link in self.links:
+            link.close()
         for service in self.services.values():
             service.close()
         self.scene.close()
+
+
+def fleet_world(robots: int) -> World:
+    """The greenhouse of a fleet sim given no world: the built-in one's 4 pots a row, in as many
+    rows as the docks need (one a robot at an aisle's west end, ``sim.generate``), 3 at least."""
+    return generate_world(max(3, robots - 1), 4, 1, robots=robots)
 
 
 def robot_config(config: LupinConfig, name: str) -> LupinConfig:
@@ -67,12 +86,11 @@ def start_fleet_sim(world: World, config: LupinConfig, names: list[str], runs: P
     return FleetSim(scene, services)
 
 
-def run_fleet(fleet: FleetSim, stop: threading.Event, on_close: Callable[[], None] = lambda: None) -> None:
+def run_fleet(fleet: FleetSim, stop: threading.Event) -> None:
     """Step ``fleet`` until ``stop`` is set, then close it on this same thread (the renderers
-    belong to the thread that made them). ``on_close`` runs first (the links)."""
+    belong to the thread that made them)."""
     try:
         while not stop.is_set():
             fleet.step()
     finally:
-        on_close()
         fleet.close()
