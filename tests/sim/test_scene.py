@@ -89,6 +89,7 @@ def test_driving_r1_through_its_hal_moves_r1_and_not_r2():
     assert t["r1"].x > 1.3 and abs(t["r1"].y - 0.5) < 0.05
     assert math.hypot(t["r2"].x - 1.0, t["r2"].y - 1.5) < 0.005
     assert max(map(abs, r2.hal.encoders.read_ticks())) <= 1 and min(r1.hal.encoders.read_ticks()) > 100
+    assert scene.engine.warnings() == {}
     scene.close()
 
 
@@ -107,6 +108,7 @@ def test_robots_driven_into_each_other_touch_and_every_contact_is_counted():
     r1.hal.wheels.set_duties([0.6] * 4)
     r1.clock.wait_until(7.0)
     assert [name for _, name in log.onsets] == ["r1-r2", "r1-r2"]  # touching again is a second contact
+    assert scene.engine.warnings() == {}
     scene.close()
 
 
