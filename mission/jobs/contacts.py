@@ -6,10 +6,14 @@ graze that comes and goes between two 10 Hz trace samples. ``ContactLog`` is sam
 simulator before every physics chunk (10 ms) and records each *onset*: a body touching the
 chassis that was not touching it at the previous sample. A contact held for a while is one
 contact; touching, letting go and touching again are two. Judging only: nothing steers by it.
+``robot_contact_log`` counts a fleet's robots touching each other the same way (``sim.scene``).
 """
 from __future__ import annotations
 
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
+
+if TYPE_CHECKING:
+    from sim.scene import SimScene
 
 
 class ContactLog:
@@ -32,3 +36,11 @@ class ContactLog:
     def since(self, t: float) -> list[tuple[float, str]]:
         """The contacts that began at or after ``t``."""
         return [c for c in self.onsets if c[0] >= t]
+
+
+def robot_contact_log(scene: "SimScene") -> ContactLog:
+    """Every contact between two robots of ``scene`` as it begins, named ``r1-r2`` (names sorted),
+    sampled from now on before every physics chunk."""
+    log = ContactLog(lambda: [f"{a}-{b}" for a, b in scene.robot_contacts()])
+    scene.engine.attach(log)
+    return log

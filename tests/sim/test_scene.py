@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from hw.config import HwConfig
-from mission.jobs.contacts import ContactLog
+from mission.jobs.contacts import robot_contact_log
 from sim.backend import SimRobot
 from sim.config import SimConfig
 from sim.generate import generate_world
@@ -95,8 +95,7 @@ def test_driving_r1_through_its_hal_moves_r1_and_not_r2():
 
 def test_robots_driven_into_each_other_touch_and_every_contact_is_counted():
     scene, (r1, r2) = fleet([(1.0, 0.5, 0.0), (2.0, 0.5, 0.0)])
-    log = ContactLog(lambda: ["-".join(pair) for pair in scene.robot_contacts()])
-    scene.engine.attach(log)
+    log = robot_contact_log(scene)
     r1.clock.wait_until(0.5)
     assert log.onsets == []
     r1.hal.wheels.set_duties([0.6] * 4)
