@@ -48,7 +48,7 @@ class SimRobot:
         index = scene.names.index(name)
         own = Scope(engine, prefix(name), robot_seed(sc.seed, index)) if name else engine
         self.spawn = world.spawn_poses[index] if name else world.spawn
-        self.dock = self.spawn if name else world.dock_pose
+        self.dock = self.spawn if name and world.spawns else world.dock_pose
         """Where this robot charges: its spawn in a fleet (spec/world.md ``spawns``: docks)."""
         self._base_qpos = np.array([own.joint_qpos(j) for j in BASE_JOINTS])
         engine.data.qpos[self._base_qpos] = (self.spawn.x, self.spawn.y, self.spawn.yaw)

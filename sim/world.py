@@ -180,8 +180,11 @@ class World(StrictEntry):
 
     def for_robot(self, index: int) -> "World":
         """The world as a fleet's robot ``index`` (0-based) knows it: starting and charging at its
-        own spawn, so its default mission, its map frame and its dock are its own."""
-        pose = self.spawn_poses[index]
+        own spawn (``spawns`` are docks), so its default mission, its map frame and its dock are
+        its own. A world of one spawn is the world as it is (its ``dock`` kept)."""
+        if not self.spawns:
+            return self
+        pose = self.spawns[index]
         return self.model_copy(update={"spawn": pose, "dock": pose})
 
     def climate_readings(self) -> dict[int, dict[str, float]]:

@@ -88,6 +88,7 @@ def test_driving_r1_through_its_hal_moves_r1_and_not_r2():
     t = scene.truths()
     assert t["r1"].x > 1.3 and abs(t["r1"].y - 0.5) < 0.05
     assert math.hypot(t["r2"].x - 1.0, t["r2"].y - 1.5) < 0.005
+    assert (r2.dock.x, r2.dock.y) == (1.0, 1.5) and r2._on_dock() and not r1._on_dock()  # each charges at its own dock
     assert max(map(abs, r2.hal.encoders.read_ticks())) <= 1 and min(r1.hal.encoders.read_ticks()) > 100
     assert scene.engine.warnings() == {}
     scene.close()

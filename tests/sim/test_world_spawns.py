@@ -52,3 +52,11 @@ def test_sim_generate_robots_on_the_command_line(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "--robots 4" in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
     assert main(["sim", "generate", "--rows", "2", "--pots-per-row", "3", "--seed", "4", "--robots", "0"]) == 2
+
+
+def test_each_robot_of_a_fleet_knows_the_world_from_its_own_dock():
+    world = generate_world(3, 4, seed=1, robots=3)
+    r2 = world.for_robot(1)
+    assert r2.spawn == r2.dock_pose == world.spawns[1] and r2.spawns == world.spawns and r2.pots == world.pots
+    one = generate_world(3, 4, seed=1).model_copy(update={"dock": world.spawns[1]})
+    assert one.for_robot(0) == one  # one spawn: the world as it is, its own dock kept
