@@ -86,11 +86,12 @@ def start_fleet_sim(world: World, config: LupinConfig, names: list[str], runs: P
     return FleetSim(scene, services)
 
 
-def run_fleet(fleet: FleetSim, stop: threading.Event) -> None:
+def run_fleet(fleet: FleetSim, stop: threading.Event, on_close: Callable[[], None] = lambda: None) -> None:
     """Step ``fleet`` until ``stop`` is set, then close it on this same thread (the renderers
-    belong to the thread that made them)."""
+    belong to the thread that made them). ``on_close`` runs first (links made outside ``join``)."""
     try:
         while not stop.is_set():
             fleet.step()
     finally:
+        on_close()
         fleet.close()
