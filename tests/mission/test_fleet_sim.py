@@ -8,11 +8,9 @@ import time
 
 import pytest
 
-from mission.jobs.fleet_sim import FleetSim, start_fleet_sim
+from mission.jobs.fleet_sim import FleetSim, fleet_world, robot_config, start_fleet_sim
 from mission.runtime.config import LupinConfig, with_overrides
 from sim.generate import generate_world
-
-pytestmark = pytest.mark.slow
 
 WORLD = generate_world(3, 4, 1, robots=2)
 
@@ -32,6 +30,7 @@ def drive_r1(tmp_path, until: float) -> tuple[FleetSim, list[tuple[float, float]
     return fleet, steps
 
 
+@pytest.mark.slow
 def test_r1s_command_moves_r1_and_not_r2_and_no_runtime_runs_behind_the_engine(tmp_path):
     fleet, steps = drive_r1(tmp_path, 4.0)
     try:
@@ -46,6 +45,7 @@ def test_r1s_command_moves_r1_and_not_r2_and_no_runtime_runs_behind_the_engine(t
         fleet.close()
 
 
+@pytest.mark.slow
 def test_a_fleet_runs_the_same_for_the_same_seed(tmp_path):
     runs = []
     for k in range(2):
@@ -55,3 +55,15 @@ def test_a_fleet_runs_the_same_for_the_same_seed(tmp_path):
         finally:
             fleet.close()
     assert runs[0] == runs[1]
+
+
+def test_each_robot_has_its_name_and_its_own_state_directory(tmp_path):
+    shared = with_overrides(LupinConfig(), {"runtime": {"state_dir": str(tmp_path)}})
+    r2 = robot_config(shared, "r2")
+    assert r2.link.robot == "r2" and r2.runtime.state_dir is not None and str(r2.runtime.state_dir) == str(tmp_path / "r2")
+    assert robot_config(LupinConfig(), "r3").runtime.state_dir is None  # a fresh temporary one each, as one robot's
+
+
+def test_the_default_fleet_world_has_a_dock_per_robot():
+    assert [len(fleet_world(n).spawn_poses) for n in (1, 2, 3, 5)] == [1, 2, 3, 5]
+    assert len(fleet_world(2).pots) == 12  # the built-in greenhouse's 3 rows of 4 pots
