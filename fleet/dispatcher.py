@@ -52,6 +52,10 @@ REPORT_EVERY = 5.0
 most this old (a pot takes ~6 s of robot time, a few times that in the sim's fast wall time)."""
 POLL = 0.2
 """Wall seconds between looks at the robots' telemetry (their fast beat is 10 Hz)."""
+START_WAIT = 60.0
+"""Wall seconds a robot whose ``mission_start`` answer was late or lost has to show its patrol
+running in its telemetry: a runtime takes a queued command late when it is busy (its first
+patrol compiles the planner's kernels; a fleet sim steps every robot on one machine)."""
 
 
 class DispatchError(Exception):
@@ -177,8 +181,8 @@ class Dispatcher:
 
     def _started(self, m: Member, part: Mission) -> bool:
         """Did the patrol start after all (the answer lost or late: a busy runtime takes the
-        command after the link's timeout)? Its telemetry says so within ``timeout``."""
-        deadline = self.clock() + self.timeout
+        command after the link's timeout)? Its telemetry says so within ``START_WAIT``."""
+        deadline = self.clock() + START_WAIT
         while self.clock() < deadline:
             v = m.client.view()
             if v.mission_name == part.name and v.mission_state in ("running", "paused", "estop") and \

@@ -29,7 +29,6 @@ from nav.frames import compose, inverse
 from nav.map_io import load_map
 from nav.occupancy import OccupancyMap
 
-ROBOT_NAME = re.compile(r"^r([1-9][0-9]*)$")
 JOIN_WAIT = 3.0
 """Seconds to wait for the robots' liveliness tokens (all of --robots): the roster's history answers at once,
 a robot joining as the dispatcher starts within a second."""
@@ -51,12 +50,7 @@ def read_inputs(mission_path: Path, world_path: Path | None, map_path: Path | No
         docks = {r: tuple(map(float, p)) for r, p in config.fleet.docks.items()}
     else:
         world = _world(world_path)
-        first = world.spawn_poses[0]
-        to_fleet = inverse(Pose2D(first.x, first.y, first.yaw))
-        docks = {}
-        for k, s in enumerate(world.spawn_poses):
-            d = compose(to_fleet, Pose2D(s.x, s.y, s.yaw))
-            docks[f"r{k + 1}"] = (d.x, d.y, d.yaw)
+        docks = world_docks(world)
     if map_path is not None:
         return Inputs(mission, docks, load_map(map_path), f"map {map_path}")
     if world is None:
@@ -64,6 +58,17 @@ def read_inputs(mission_path: Path, world_path: Path | None, map_path: Path | No
     first = world.spawn_poses[0]
     return Inputs(mission, docks, plan_of_world(world, (first.x, first.y, first.yaw), config.nav.costmap.resolution),
                   f"the plan of world {world.name!r}")
+
+
+def world_docks(world) -> dict[str, Pose]:
+    """The sim world's ``spawns`` as the docks of r1, r2, ... in the first one's frame."""
+    first = world.spawn_poses[0]
+    to_fleet = inverse(Pose2D(first.x, first.y, first.yaw))
+    docks = {}
+    for k, s in enumerate(world.spawn_poses):
+        d = compose(to_fleet, Pose2D(s.x, s.y, s.yaw))
+        docks[f"r{k + 1}"] = (d.x, d.y, d.yaw)
+    return docks
 
 
 def _world(path: Path | None):

@@ -1,9 +1,16 @@
-"""`lupin fleet patrol` on real robots through a real TLS router: each robot a sim service of
-the same generated 3 x 4 greenhouse started at its own dock (the world's ``spawns``), running as
-fast as the machine allows, its link joined to the router under its certificate; the dispatcher
-as ``dispatcher``. Two robots split the pots and inspect all; a robot killed mid-patrol hands
-its pots over; a fleet e-stop stops both, hands nothing over, and ``resume`` restarts both; one
-robot alone inspects what ``lupin patrol`` inspects; bad input is exit 2 with one line."""
+"""`lupin fleet patrol` on real robots through a real TLS router, the dispatcher as
+``dispatcher``, on the generated 3 x 4 greenhouse with two docks (the world's ``spawns``), every
+robot as fast as the machine allows.
+
+Two kinds of robots: ``fleet``, those of ``lupin fleet sim`` (``mission.jobs.fleet_sim``: one
+MuJoCo world, a runtime per robot in lock-step, each link joined to the router under its
+certificate), and ``robots``, each robot in a sim of its own (the world started at its spawn).
+The split of this greenhouse shares its middle aisle (8 pots against the south strip's 4), and
+until the robots ask for the aisle locks before entering (the robot side of ``fleet.aisle_locks``)
+two robots of one world can block each other there; so the tests of the dispatcher's split,
+follow and hand-over use robots of their own sims (a killed robot is also a whole runtime gone,
+which one runtime of a lock-step fleet cannot be), and the fleet sim's robots are those of the
+fleet e-stop and of the one robot that behaves as ``lupin patrol``."""
 from __future__ import annotations
 
 import json
@@ -16,15 +23,14 @@ import pytest
 from fleet.certs import member_files
 from fleet.fleet_patrol import fleet_patrol, read_inputs
 from lupin.cli import main
-from mission.jobs.serve import run_service
-from mission.jobs.sim_serve import start_sim_service
+from mission.jobs.fleet_sim import run_fleet, start_fleet_sim
 from mission.link.fleet_link import FleetLink
-from mission.link.server import LinkServer
 from mission.patrol.mission_file import dump_mission, mission_from_world
 from mission.runtime.config import LupinConfig, with_overrides
 from sim.generate import generate_world
 from sim.world import dump_world
 from tests.fleet.conftest import wait_for
+from tests.fleet.test_fleet_sim import FleetRobot
 
 SEED = 1
 
@@ -39,36 +45,56 @@ def greenhouse(tmp_path_factory) -> tuple[Path, Path]:
     return d / "world.yaml", d / "mission.yaml"
 
 
-class SimRobot:
-    """Robot ``rK``: a sim service of the world started at its K-th spawn, its link on the router."""
+def fast(name: str = "") -> LupinConfig:
+    return with_overrides(LupinConfig(), {"sim": {"realtime": False, "seed": SEED},
+                                          "link": {"robot": name or "mirte", "command_timeout": 8.0}})
+
+
+class SimRobot(FleetRobot):
+    """Robot ``rK`` alone in a sim of the world started at its K-th spawn, its link on the router."""
 
     def __init__(self, name: str, world_path: Path, endpoint: str, certs: Path, runs: Path):
         from sim.world import load_world
 
-        world = load_world(world_path)
-        k = int(name[1:]) - 1
-        mine = world.model_copy(update={"spawn": world.spawns[k], "spawns": []})
-        config = with_overrides(LupinConfig(), {"sim": {"realtime": False, "seed": SEED},
-                                                "link": {"robot": name, "command_timeout": 8.0}})
-        self.service = start_sim_service(mine, config, runs, time.perf_counter)
-        self.server = LinkServer(self.service, config.link, None, connect=endpoint, tls=member_files(certs, name))
-        self._stop = threading.Event()
-        self._thread = threading.Thread(target=run_service, args=(self.service, self._stop, self.server.close), daemon=True)
-        self._thread.start()
+        super().__init__(name, endpoint, certs, runs, load_world(world_path).for_robot(int(name[1:]) - 1), realtime=False)
 
-    def inspected(self) -> int:
-        run = self.service.run
-        return 0 if run is None else sum(p["status"] == "inspected" for p in run.report.pots.values())
+
+class SharedSim:
+    """``lupin fleet sim``'s robots: one world, a runtime each in lock-step, each link on the router."""
+
+    def __init__(self, names, world_path: Path, endpoint: str, certs: Path, runs: Path):
+        from sim.world import load_world
+
+        self.fleet = start_fleet_sim(load_world(world_path), fast(), list(names), runs, time.perf_counter)
+        self.fleet.join(endpoint, lambda name: member_files(certs, name), None)
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=run_fleet, args=(self.fleet, self._stop), daemon=True)
+        self._thread.start()
 
     def close(self) -> None:
         self._stop.set()
         self._thread.join(60)
 
 
+def inspected(service) -> int:
+    run = service.run
+    return 0 if run is None else sum(p["status"] == "inspected" for p in run.report.pots.values())
+
+
 @pytest.fixture
-def robots(request, router, certs, greenhouse, tmp_path):
-    names = getattr(request, "param", ("r1", "r2"))
-    got = {n: SimRobot(n, greenhouse[0], router, certs, tmp_path / "runs" / n) for n in names}
+def fleet(request, router, certs, greenhouse, tmp_path):
+    """The fleet sim's robots (``request.param``: their names, default r1, r2): name -> service."""
+    sim = SharedSim(getattr(request, "param", ("r1", "r2")), greenhouse[0], router, certs, tmp_path / "runs")
+    try:
+        yield sim.fleet.services
+    finally:
+        sim.close()
+
+
+@pytest.fixture
+def robots(router, certs, greenhouse, tmp_path):
+    """r1 and r2, each in a sim of its own."""
+    got = {n: SimRobot(n, greenhouse[0], router, certs, tmp_path / "runs" / n) for n in ("r1", "r2")}
     try:
         yield got
     finally:
@@ -104,7 +130,6 @@ def _all_pots(greenhouse) -> list[str]:
 @pytest.mark.slow
 def test_two_robots_split_the_greenhouse_and_inspect_every_pot(router, certs, greenhouse, robots, tmp_path):
     out = tmp_path / "fleet"
-    assert wait_for(lambda: all(r.server for r in robots.values()), 5)
     code = main(["fleet", "patrol", "--mission", str(greenhouse[1]), "--world", str(greenhouse[0]), "--connect", router,
                  "--certs", str(certs), "--report", str(out)])
     assert code == 0
@@ -126,7 +151,7 @@ def test_two_robots_split_the_greenhouse_and_inspect_every_pot(router, certs, gr
 def test_a_robot_killed_mid_patrol_hands_its_pots_over_and_every_pot_is_inspected(router, certs, greenhouse, robots,
                                                                                   tmp_path):
     d = Dispatch(router, certs, greenhouse, tmp_path / "fleet")
-    assert wait_for(lambda: robots["r2"].inspected() >= 2, 300), d.lines
+    assert wait_for(lambda: inspected(robots["r2"].service) >= 2, 300), d.lines
     robots["r2"].close()  # its runtime and link gone: its liveliness token goes with them
     written = json.loads(robots["r2"].service.report_path.read_text())  # its report, finished as it went
     really = {p["id"] for p in written["pots"] if p["status"] == "inspected"}
@@ -146,20 +171,34 @@ def test_a_robot_killed_mid_patrol_hands_its_pots_over_and_every_pot_is_inspecte
 
 
 @pytest.mark.slow
-def test_a_fleet_estop_stops_every_robot_hands_nothing_over_and_resume_restarts_them_all(router, certs, greenhouse,
-                                                                                      robots, tmp_path):
+def test_a_robot_stopped_longer_than_handover_after_hands_its_pots_over(router, certs, greenhouse, robots, tmp_path):
     config = with_overrides(LupinConfig(), {"fleet": {"handover_after": 2.0}})
     d = Dispatch(router, certs, greenhouse, tmp_path / "fleet", config)
-    assert wait_for(lambda: all(r.inspected() >= 1 for r in robots.values()), 300), d.lines
+    assert wait_for(lambda: inspected(robots["r2"].service) >= 1, 300), d.lines
+    robots["r2"].service.estop(True)  # as its stop key does: held, while r1 goes on
+    summary = d.wait()
+    r2, r1 = summary["robots"]["r2"], summary["robots"]["r1"]
+    assert r2["handover_reason"] == "estop" and r2["outcome"] == "aborted" and r2["handed_over"]
+    assert [(h["from"], h["to"], h["why"]) for h in summary["handovers"]] == [("r2", "r1", "estop")]
+    assert r1["received"] == summary["handovers"][0]["pots"] and set(r2["handed_over"]) <= set(r1["done"])
+    assert summary["complete"]
+
+
+@pytest.mark.slow
+def test_a_fleet_estop_stops_every_robot_hands_nothing_over_and_resume_restarts_them_all(router, certs, greenhouse,
+                                                                                      fleet, tmp_path):
+    config = with_overrides(LupinConfig(), {"fleet": {"handover_after": 2.0}})
+    d = Dispatch(router, certs, greenhouse, tmp_path / "fleet", config)
+    assert wait_for(lambda: all(inspected(s) >= 1 for s in fleet.values()), 300), d.lines
     console = FleetLink(router, clock=time.monotonic, tls=member_files(certs, "ops"), timeout=10.0)
     try:
         assert console.stop_fleet() == ["r1", "r2"]
-        held = {n: r.service.now for n, r in robots.items()}
-        assert wait_for(lambda: all(r.service.now - held[n] > 4 * 2.0 for n, r in robots.items()), 60)
-        assert all(r.service.run.tree.holds.latched and not r.service.robot.base.last_duties.any() for r in robots.values())
-        done = {n: r.inspected() for n, r in robots.items()}
-        assert wait_for(lambda: all(r.service.now - held[n] > 8 * 2.0 for n, r in robots.items()), 60)
-        assert {n: r.inspected() for n, r in robots.items()} == done  # nobody moved on while stopped
+        held = {n: s.now for n, s in fleet.items()}
+        assert wait_for(lambda: all(s.now - held[n] > 4 * 2.0 for n, s in fleet.items()), 60)
+        assert all(s.run.tree.holds.latched and not s.robot.base.last_duties.any() for s in fleet.values())
+        done = {n: inspected(s) for n, s in fleet.items()}
+        assert wait_for(lambda: all(s.now - held[n] > 8 * 2.0 for n, s in fleet.items()), 60)
+        assert {n: inspected(s) for n, s in fleet.items()} == done  # nobody moved on while stopped
         assert console.resume_fleet() == {"r1": None, "r2": None}
     finally:
         console.close()
@@ -169,8 +208,8 @@ def test_a_fleet_estop_stops_every_robot_hands_nothing_over_and_resume_restarts_
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("robots", [("r1",)], indirect=True)
-def test_one_robot_alone_inspects_the_pots_lupin_patrol_inspects(router, certs, greenhouse, robots, tmp_path):
+@pytest.mark.parametrize("fleet", [("r1",)], indirect=True)
+def test_one_robot_alone_inspects_the_pots_lupin_patrol_inspects(router, certs, greenhouse, fleet, tmp_path):
     out = tmp_path / "fleet"
     assert main(["fleet", "patrol", "--mission", str(greenhouse[1]), "--world", str(greenhouse[0]), "--connect", router,
                  "--certs", str(certs), "--report", str(out), "--robots", "r1"]) == 0

@@ -25,12 +25,13 @@ pytestmark = pytest.mark.slow
 
 
 class FleetRobot:
-    """A real-time sim service whose link joins the router as ``name``."""
+    """A sim service (real time, unless ``realtime`` False) of ``world`` (default the built-in
+    one) whose link joins the router as ``name``."""
 
-    def __init__(self, name: str, endpoint: str, certs: Path, runs: Path):
-        config = with_overrides(LupinConfig(), {"sim": {"realtime": True},
+    def __init__(self, name: str, endpoint: str, certs: Path, runs: Path, world=None, realtime: bool = True):
+        config = with_overrides(LupinConfig(), {"sim": {"realtime": realtime},
                                                 "link": {"robot": name, "command_timeout": 8.0}})
-        self.service = start_sim_service(load_default_world(), config, runs, time.perf_counter)
+        self.service = start_sim_service(world or load_default_world(), config, runs, time.perf_counter)
         self.server = LinkServer(self.service, config.link, None, connect=endpoint, tls=member_files(certs, name))
         self._stop = threading.Event()
         self._thread = threading.Thread(target=run_service, args=(self.service, self._stop, self.server.close), daemon=True)
