@@ -161,6 +161,9 @@ def fleet_sim(
             raise
         print(f"lupin fleet sim: {w.name}: robots {', '.join(names)} through the router on {endpoint}"
               f"{' (fast)' if fast else ''}", flush=True)
+        store = stores[names[0]]
+        print(f"lupin fleet sim: each robot's patrols in {runs}/<robot>/, recorded in "
+              f"{store.shown + ' under its name' if store is not None else 'no history (--history none)'}", flush=True)
         stop = threading.Event()
         previous = {s: signal.signal(s, lambda *_: stop.set()) for s in (signal.SIGINT, signal.SIGTERM)}
         try:
