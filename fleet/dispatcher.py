@@ -14,7 +14,7 @@ telemetry shows a pot inspected that the last fetch did not have, and every ``RE
 so a robot that dies leaves the report as it last wrote it (rewritten after every pot), short
 at most of the pot it finished as it died.
 
-A robot drops out (``fleet.handover``) when its liveliness goes (the roster), when its e-stop is
+A robot drops out when its liveliness goes (the roster; away ``LOST_AFTER`` s), when its e-stop is
 held longer than ``fleet.handover_after`` s of its own clock while another robot could go on
 (a fleet e-stop, every robot stopped, hands nothing over: ``resume`` goes on where they were),
 or when its battery is low. A robot still up is sent ``mission_abort`` (its report then ends
@@ -52,6 +52,11 @@ REPORT_EVERY = 5.0
 most this old (a pot takes ~6 s of robot time, a few times that in the sim's fast wall time)."""
 POLL = 0.2
 """Wall seconds between looks at the robots' telemetry (their fast beat is 10 Hz)."""
+LOST_AFTER = 3.0
+"""Wall seconds a robot's liveliness token must stay away before its pots are handed over: a
+machine stalled past the robots' 800 ms lease drops every token at once and they are back as
+soon as it goes on (``mission.link.roster``), and handing a live robot's pots over costs a
+patrol; a robot really gone waits 3 s longer for its pots to move (``fleet.aisle_locks``' grace)."""
 START_WAIT = 60.0
 """Wall seconds a robot whose ``mission_start`` answer was late or lost has to show its patrol
 running in its telemetry: a runtime takes a queued command late when it is busy (its first
@@ -100,6 +105,7 @@ class Member:
     t_end: float | None = None
     estop_since: float | None = None
     fetched_at: float = float("-inf")
+    absent_since: float | None = None
     path: list[tuple[float, float]] = field(default_factory=list)
 
     def all_reports(self) -> list[dict]:
@@ -199,9 +205,11 @@ class Dispatcher:
             if m.out is not None:
                 continue
             if m.name not in up:
-                if m.on_patrol or m.waiting:
+                m.absent_since = self.clock() if m.absent_since is None else m.absent_since
+                if (m.on_patrol or m.waiting) and self.clock() - m.absent_since > LOST_AFTER:
                     self._drop(m, "liveliness")
                 continue
+            m.absent_since = None
             if m.on_patrol:
                 self._follow(m)
             elif m.waiting:
