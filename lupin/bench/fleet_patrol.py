@@ -1,5 +1,5 @@
 """``fleet.patrol``: the fleet patrol on ``patrol.large``'s 180-pot two-bay greenhouse with 1, 2 and
-3 robots (issue 34's figures); ``fleet.patrol.small``: the same on a 4 x 6 greenhouse of 24 pots,
+3 robots (issue 34's figures); ``fleet.patrol_small``: the same on a 4 x 6 greenhouse of 24 pots,
 a run that fits a coffee break.
 
 Each run is the real thing as a user starts it, in one process: ``lupin fleet sim``'s robots
@@ -54,7 +54,7 @@ from sim.world import World
 
 ROBOTS = (1, 2, 3)
 SMALL = (4, 6, 1, 1)
-"""rows, pots per row, seed, bays of ``fleet.patrol.small``'s greenhouse: 24 pots."""
+"""rows, pots per row, seed, bays of ``fleet.patrol_small``'s greenhouse: 24 pots."""
 JUDGE_RATE = 10.0
 """Ground-truth samples per robot second: a contact or a meeting lasts longer than 0.1 s."""
 MEETING_M = 1.5
@@ -164,7 +164,7 @@ def large(config: LupinConfig) -> Sample:
     return fleet_sample(generate_world(rows, per_row, seed, bays=bays, robots=max(ROBOTS)), config)
 
 
-@benchmark("fleet.patrol.small")
+@benchmark("fleet.patrol_small")
 def small(config: LupinConfig) -> Sample:
     rows, per_row, seed, bays = SMALL
     return fleet_sample(generate_world(rows, per_row, seed, bays=bays, robots=max(ROBOTS)), config)
