@@ -21,6 +21,12 @@ dispatcher (``fleet.fleet_patrol``) following them to the end. Figures per robot
 * ``wall_s`` and ``peak_rss_mb`` (this process's peak so far: the runs go 1, 2, 3 robots, so the
   3-robot figure is the fleet's, goal <= 3 GB).
 
+``fleet.handover``: the 3-robot run again with r2 dying a third of the way through its patrol
+(``Death``: its link closes, so its liveliness token goes, and it stands where it is, as a robot
+whose computer died): pots right (goal all), pots handed over, and its makespan against the
+undisturbed 3-robot run (shared with ``fleet.patrol`` in one ``lupin bench`` process);
+``fleet.handover_small`` the same on the small greenhouse.
+
 Every run is counted; a run that did not end within ``DEADLINE_S`` of wall time says so
 (``complete`` false) with the figures it got.
 """
@@ -60,6 +66,8 @@ JUDGE_RATE = 10.0
 MEETING_M = 1.5
 """Two robots in one aisle closer than this, closing, meet head-on: neither can pass."""
 DEADLINE_S = 3 * 3600.0
+KILLED, KILL_AT = "r2", 1 / 3
+_RUNS: dict = {}
 
 
 class FleetJudge:
@@ -93,7 +101,28 @@ class FleetJudge:
         self._last = xy
 
 
-def _step_fleet(fleet, judge: FleetJudge, stop: threading.Event) -> None:
+class Death:
+    """Robot ``name`` dies once it has inspected ``share`` of its patrol's pots: its link closes
+    (its liveliness token with it) and its soft stop holds it where it is. On the sim's thread."""
+
+    def __init__(self, fleet, name: str, share: float):
+        self.fleet, self.name, self.share, self.at_s = fleet, name, share, None
+
+    def check(self) -> None:
+        service = self.fleet.services[self.name]
+        run = service.run
+        if self.at_s is not None or run is None:
+            return
+        done = sum(p["status"] == "inspected" for p in run.report.pots.values())
+        if done >= self.share * len(run.tree.mission.pots):
+            link = next(k for k in self.fleet.links if k.config.robot == self.name)
+            self.fleet.links.remove(link)
+            link.close()
+            service.estop(True)
+            self.at_s = round(service.now, 1)
+
+
+def _step_fleet(fleet, judge: FleetJudge, stop: threading.Event, death: Death | None) -> None:
     """``mission.jobs.fleet_sim.run_fleet`` with the judge's samples on the robots' clock."""
     clock = next(iter(fleet.services.values())).robot.scheduler.clock
     due = clock.now()
@@ -102,13 +131,23 @@ def _step_fleet(fleet, judge: FleetJudge, stop: threading.Event) -> None:
             fleet.step()
             if clock.now() >= due:
                 judge.sample()
+                if death is not None:
+                    death.check()
                 due += 1.0 / JUDGE_RATE
     finally:
         fleet.close()
 
 
-def fleet_run(world: World, robots: int, config: LupinConfig) -> dict:
-    """One fleet patrol of every pot of ``world`` with ``robots`` robots; its figures."""
+def fleet_run(world: World, robots: int, config: LupinConfig, kill: str | None = None) -> dict:
+    """One fleet patrol of every pot of ``world`` with ``robots`` robots (robot ``kill`` dying
+    ``KILL_AT`` of the way); its figures. Once per process for each."""
+    key = (world.name, robots, kill)
+    if key not in _RUNS:
+        _RUNS[key] = _fleet_run(world, robots, config, kill)
+    return _RUNS[key]
+
+
+def _fleet_run(world: World, robots: int, config: LupinConfig, kill: str | None) -> dict:
     names = [f"r{k}" for k in range(1, robots + 1)]
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
@@ -120,7 +159,8 @@ def fleet_run(world: World, robots: int, config: LupinConfig) -> dict:
                                 names, tmp / "runs", time.perf_counter)
         fleet.join(endpoint, lambda name: member_files(tmp / "certs", name), None)
         judge, contacts, stop = FleetJudge(fleet.scene, world), robot_contact_log(fleet.scene), threading.Event()
-        stepper = threading.Thread(target=_step_fleet, args=(fleet, judge, stop), daemon=True)
+        death = Death(fleet, kill, KILL_AT) if kill else None
+        stepper = threading.Thread(target=_step_fleet, args=(fleet, judge, stop, death), daemon=True)
         stepper.start()
         try:
             first = world.spawn_poses[0]
@@ -141,6 +181,8 @@ def fleet_run(world: World, robots: int, config: LupinConfig) -> dict:
                 "pots": len(world.pots), "pots_inspected": summary["pots"]["inspected"],
                 "pots_right": correct_pots(world, doc), "robot_contacts": len(contacts.onsets), "head_on": judge.head_on,
                 "aisle_wait_s": waits, "assigned": {r: len(v["assigned"]) for r, v in summary["robots"].items()},
+                "handed_over": sum(len(h["pots"]) for h in summary["handovers"]),
+                "killed": kill, "killed_at_s": death.at_s if death else None,
                 "wall_s": round(wall, 1), "peak_rss_mb": round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)}
 
 
@@ -158,13 +200,36 @@ def fleet_sample(world: World, config: LupinConfig) -> Sample:
     return Sample([r["wall_s"] * 1000.0 for r in runs], {"world": world.name, "runs": runs})
 
 
+def greenhouse(size: tuple[int, int, int, int]) -> World:
+    """The generated greenhouse of ``size`` (rows, pots per row, seed, bays) with a dock per robot."""
+    rows, per_row, seed, bays = size
+    return generate_world(rows, per_row, seed, bays=bays, robots=max(ROBOTS))
+
+
+def handover_sample(world: World, config: LupinConfig) -> Sample:
+    calm = fleet_run(world, max(ROBOTS), config)
+    hit = fleet_run(world, max(ROBOTS), config, kill=KILLED)
+    share = round(hit["makespan_s"] / calm["makespan_s"], 3) if calm["makespan_s"] else None
+    return Sample([hit["wall_s"] * 1000.0], {"world": world.name, **hit, "makespan_vs_undisturbed": share,
+                                             "undisturbed_makespan_s": calm["makespan_s"],
+                                             "undisturbed_pots_right": calm["pots_right"]})
+
+
 @benchmark("fleet.patrol")
 def large(config: LupinConfig) -> Sample:
-    rows, per_row, seed, bays = LARGE
-    return fleet_sample(generate_world(rows, per_row, seed, bays=bays, robots=max(ROBOTS)), config)
+    return fleet_sample(greenhouse(LARGE), config)
 
 
 @benchmark("fleet.patrol_small")
 def small(config: LupinConfig) -> Sample:
-    rows, per_row, seed, bays = SMALL
-    return fleet_sample(generate_world(rows, per_row, seed, bays=bays, robots=max(ROBOTS)), config)
+    return fleet_sample(greenhouse(SMALL), config)
+
+
+@benchmark("fleet.handover")
+def handover_large(config: LupinConfig) -> Sample:
+    return handover_sample(greenhouse(LARGE), config)
+
+
+@benchmark("fleet.handover_small")
+def handover_small(config: LupinConfig) -> Sample:
+    return handover_sample(greenhouse(SMALL), config)
