@@ -10,6 +10,7 @@ one simulated greenhouse (``mission.jobs.fleet_sim``), each joined to it under i
 from __future__ import annotations
 
 import json
+import logging
 import signal
 import sys
 import threading
@@ -159,6 +160,7 @@ def fleet_sim(
         except BaseException:
             fleet.close()
             raise
+        logging.getLogger().setLevel(min(logging.getLogger().level, logging.INFO))  # consoles get INFO, as from serve
         print(f"lupin fleet sim: {w.name}: robots {', '.join(names)} through the router on {endpoint}"
               f"{' (fast)' if fast else ''}", flush=True)
         store = stores[names[0]]

@@ -23,6 +23,7 @@ from mission.jobs.serve import Service
 from mission.jobs.sim_serve import start_sim_service
 from mission.link.server import LinkServer
 from mission.link.session import TlsFiles
+from mission.link.telemetry import LOGGING_ROBOT
 from mission.runtime.config import LupinConfig, with_overrides
 from sim.generate import generate_world
 from sim.scene import SimScene
@@ -37,8 +38,13 @@ class FleetSim:
     links: list[LinkServer] = field(default_factory=list)
 
     def step(self) -> None:
-        """One step of the runtime due first."""
-        min(self.services.values(), key=lambda s: s.robot.scheduler.next_due()).step()
+        """One step of the runtime due first, its log records its own (``LOGGING_ROBOT``)."""
+        name, service = min(self.services.items(), key=lambda item: item[1].robot.scheduler.next_due())
+        token = LOGGING_ROBOT.set(name)
+        try:
+            service.step()
+        finally:
+            LOGGING_ROBOT.reset(token)
 
     def join(self, endpoint: str, tls: Callable[[str], TlsFiles | None], token: str | None) -> None:
         """Each robot's link joins the router at ``endpoint`` under its name (``tls(name)``: its

@@ -25,6 +25,7 @@ closure to the outbox; JSON, zlib and the network happen on the sender thread.
 """
 from __future__ import annotations
 
+import contextvars
 import logging
 import math
 import zlib
@@ -172,14 +173,22 @@ def people_rows(people, map_to_odom) -> list[list]:
             for p, (x, y), (vx, vy) in zip(tracks, xy, v)]
 
 
+LOGGING_ROBOT: contextvars.ContextVar[str | None] = contextvars.ContextVar("lupin_logging_robot", default=None)
+"""The robot whose runtime is running now, where several share a process (``lupin fleet sim``
+sets it around each runtime's step): its log records are its own link's alone. None: one
+robot in the process, or a record from no runtime's step; every link posts it."""
+
+
 class LinkLogHandler(logging.Handler):
     """Log records, posted as ``log`` lines (never blocks; drops with the outbox when full)."""
 
     def __init__(self, outbox: Outbox, robot_name: str, now):
         super().__init__(logging.INFO)
-        self.outbox, self.key, self.now = outbox, tel_key(robot_name, "log"), now
+        self.outbox, self.key, self.now, self.robot = outbox, tel_key(robot_name, "log"), now, robot_name
 
     def emit(self, record: logging.LogRecord) -> None:
+        if LOGGING_ROBOT.get() not in (None, self.robot):
+            return  # another robot's runtime logged it
         try:
             line = f"{self.now():8.1f} {record.levelname[0]} {record.getMessage()}"
         except Exception:  # a broken log call must not break the robot
