@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Callable
 
 from mission.history.store import History
-from mission.jobs.serve import Service
+from mission.jobs.serve import Service, run_service
 from mission.jobs.sim_serve import start_sim_service
 from mission.link.server import LinkServer
 from mission.link.session import TlsFiles
@@ -93,11 +93,7 @@ def start_fleet_sim(world: World, config: LupinConfig, names: list[str], runs: P
 
 
 def run_fleet(fleet: FleetSim, stop: threading.Event, on_close: Callable[[], None] = lambda: None) -> None:
-    """Step ``fleet`` until ``stop`` is set, then close it on this same thread (the renderers
-    belong to the thread that made them). ``on_close`` runs first (links made outside ``join``)."""
-    try:
-        while not stop.is_set():
-            fleet.step()
-    finally:
-        on_close()
-        fleet.close()
+    """Step ``fleet`` until ``stop`` is set, then close it on this same thread, as one robot's
+    service is run (``run_service``: a fleet steps and closes like one). ``on_close`` runs first
+    (links made outside ``join``)."""
+    run_service(fleet, stop, on_close)

@@ -13,6 +13,7 @@ from mission.jobs.fleet_sim import FleetSim, fleet_world, robot_config, start_fl
 from mission.link.telemetry import LOGGING_ROBOT, LinkLogHandler
 from mission.runtime.config import LupinConfig, with_overrides
 from sim.generate import generate_world
+from tests.mission.test_log_clock import Posts
 
 WORLD = generate_world(3, 4, 1, robots=2)
 
@@ -74,14 +75,6 @@ def test_each_robot_has_its_name_and_its_own_state_directory(tmp_path):
 def test_the_default_fleet_world_has_a_dock_per_robot():
     assert [len(fleet_world(n).spawn_poses) for n in (1, 2, 3, 5)] == [1, 2, 3, 5]
     assert len(fleet_world(2).pots) == 12  # the built-in greenhouse's 3 rows of 4 pots
-
-
-class Posts:
-    def __init__(self):
-        self.lines: list[str] = []
-
-    def post(self, key, payload):
-        self.lines.append(payload().decode())
 
 
 def test_a_robots_log_lines_go_to_its_own_link_alone():
