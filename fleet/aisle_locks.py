@@ -1,7 +1,7 @@
 """Aisle locks: one robot at a time in an aisle (spec/fleet.md "Aisles"), held through the router.
 
 The dispatcher keeps the table (``AisleTable``) and answers the robots' requests as a Zenoh
-queryable (``AisleLockServer``); robots ask before they enter (``AisleLockClient``). One
+queryable (``AisleLockServer``); robots ask before they enter (``mission.link.aisle_client``). One
 arbiter makes a grant atomic (two robots asking for one free aisle at once cannot both get it,
 which tokens or puts alone cannot promise), and it goes through the router like everything
 else, so the router's access control decides who may ask: robot R only on
@@ -15,7 +15,8 @@ refused waits outside and asks again. The one wait it cannot avoid is a robot in
 wants B, r2 in B wants A; a wait counts while fresh, ``STALE_WAIT``), the request that closed
 it is answered ``yield``: that robot backs out to open ground, lets go of its aisle and plans
 again, and the other goes on. A lock goes with its holder's liveliness (``lupin/<robot>/alive``,
-``mission.link.roster``): a dead robot's aisles are free within a second. ``overdue`` lists
+``mission.link.roster``), once it has stayed away ``LOCK_GRACE``: a dead robot's aisles are free
+within seconds, and a live robot's are not freed by a stall of the machine. ``overdue`` lists
 locks held longer than a limit, for the fleet report ("a robot that holds a lock too long is
 reported").
 """
@@ -23,17 +24,15 @@ from __future__ import annotations
 
 import json
 import threading
-from dataclasses import dataclass, field
 from typing import Callable
 
 import zenoh
 
+from mission.link.aisle_client import AISLES, ASK, AisleLockClient, Answer, ask_key
 from mission.link.roster import Roster
 from mission.link.wire import dumps
 
-AISLES = "lupin/fleet/aisles"
-"""Where the dispatcher publishes who holds which aisle (JSON ``{aisle: robot}``)."""
-ASK = f"{AISLES}/ask"
+__all__ = ["AISLES", "ASK", "AisleLockClient", "AisleLockServer", "AisleTable", "Answer", "LOCK_GRACE", "ask_key"]
 
 
 STALE_WAIT = 5.0
@@ -42,18 +41,12 @@ asks again every second or so, so an older wait is one it gave up (it planned an
 died), and must not make a later request look like a deadlock."""
 
 
-def ask_key(robot: str) -> str:
-    """The key robot ``robot`` asks on (the router lets only it query there)."""
-    return f"{ASK}/{robot}"
-
-
-@dataclass(frozen=True)
-class Answer:
-    granted: bool
-    held_by: dict[int, str] = field(default_factory=dict)
-    """The aisles refused, by whom they are held."""
-    yield_: bool = False
-    """Back out to open ground and plan again: waiting would close a cycle."""
+LOCK_GRACE = 3.0
+"""A robot's locks go once its liveliness token has stayed away this long, s
+(``mission.link.roster``): a stall of the machine past the 800 ms lease drops every robot's
+token at once and each is back within 0.05 s of the stall's end (measured), so 3 s rides out
+stalls up to ~3.8 s, and a killed robot (its socket closed, its token gone at once) frees its
+aisles 3 s later, well before anyone has driven to them."""
 
 
 class AisleTable:
@@ -124,9 +117,9 @@ class AisleLockServer:
     """The dispatcher's side: the table as a queryable on ``lupin/fleet/aisles/ask/*``, freed of
     dead robots by the roster, published on ``lupin/fleet/aisles`` after every change."""
 
-    def __init__(self, session: zenoh.Session, clock: Callable[[], float]):
+    def __init__(self, session: zenoh.Session, clock: Callable[[], float], lock_grace: float = LOCK_GRACE):
         self.session, self.table = session, AisleTable(clock)
-        self.roster = Roster(session, on_change=self._on_roster)
+        self.roster = Roster(session, on_change=self._on_roster, grace=lock_grace)
         self._queryable = session.declare_queryable(f"{ASK}/*", self._on_query)
 
     def _on_query(self, query: zenoh.Query) -> None:
@@ -139,7 +132,7 @@ class AisleLockServer:
             return
         # a robot whose liveliness the dispatcher does not see holds nothing: its lock could never be freed
         a = self.table.request(robot, aisles) if robot in self.roster.robots() else Answer(False)
-        query.reply(query.key_expr, dumps({"granted": a.granted, "held_by": a.held_by, "yield": a.yield_}))
+        query.reply(query.key_expr, a.dumps())
         if a.granted:
             self._publish()
 
@@ -156,22 +149,3 @@ class AisleLockServer:
         self.roster.close()
         self._queryable.undeclare()
 
-
-class AisleLockClient:
-    """A robot's side: ask for the aisles of its next leg, or let go of them all."""
-
-    def __init__(self, session: zenoh.Session, robot: str, timeout: float = 2.0):
-        self.session, self.key, self.timeout = session, ask_key(robot), timeout
-
-    def ask(self, aisles: list[int]) -> Answer | None:
-        """The arbiter's answer; None when none came (no dispatcher: wait outside, ask again)."""
-        for reply in self.session.get(self.key, payload=dumps({"aisles": list(aisles)}), timeout=self.timeout):
-            if reply.ok is None:
-                return None
-            got = json.loads(reply.ok.payload.to_bytes())
-            return Answer(got["granted"], {int(a): r for a, r in got["held_by"].items()}, got["yield"])
-        return None
-
-    def release(self) -> bool:
-        a = self.ask([])
-        return a is not None and a.granted

@@ -28,9 +28,9 @@ import json
 
 import zenoh
 
-from fleet.aisle_locks import ASK, ask_key
 from fleet.members import Members
 from hw.errors import InputError
+from mission.link.aisle_client import ASK, ask_key
 from mission.link.session import TlsFiles, tls_settings
 from mission.link.wire import FLEET_STOP, alive_key
 

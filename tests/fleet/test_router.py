@@ -107,21 +107,27 @@ def test_any_member_may_stop_a_robot_or_the_fleet_but_only_a_console_commands(ro
             s.close()
 
 
-def test_the_roster_sees_robots_come_and_go_within_a_second_and_a_new_console_finds_them(router, certs):
+def test_the_roster_sees_robots_come_and_go_and_a_new_console_finds_them(router, certs):
+    """A death is seen when the robot's socket closes, not when a lease runs out: these bare
+    sessions announce zenoh's 10 s lease, so seeing it inside that is the close's doing. How
+    long it takes on this machine is fleet.join's figure (goal 1 s), never a test's."""
     ops = member(router, certs, "ops")
     roster = Roster(ops)
     r1, r2 = member(router, certs, "r1"), member(router, certs, "r2")
     try:
         tokens = [r1.liveliness().declare_token("lupin/r1/alive"), r2.liveliness().declare_token("lupin/r2/alive")]
-        assert wait_for(lambda: roster.robots() == ["r1", "r2"], 1.0)
+        assert wait_for(lambda: roster.robots() == ["r1", "r2"])
         r2.close()
-        assert wait_for(lambda: roster.robots() == ["r1"], 1.0), "r2's death was not seen within a second"
+        assert wait_for(lambda: roster.robots() == ["r1"], 5.0), "r2's death was not seen from its closed socket"
+        roster.close()
         ops.close()
-        ops = member(router, certs, "ops")  # a console restarts
-        assert wait_for(lambda: Roster(ops).robots() == ["r1"], 1.0)
+        ops = member(router, certs, "ops")  # a console restarts: the tokens held come with its roster
+        again = Roster(ops)
+        assert wait_for(lambda: again.robots() == ["r1"])
         impostor = r1.liveliness().declare_token("lupin/r9/alive")  # r1 cannot pose as another robot
-        assert not wait_for(lambda: "r9" in Roster(ops).robots(), 0.5)
-        assert tokens and impostor
+        tokens[0].undeclare()  # after the impostor on r1's one link: once this shows, so would r9
+        assert wait_for(lambda: again.robots() == [])
+        assert "r9" not in Roster(ops).robots() and impostor
     finally:
         for s in (ops, r1):
             s.close()
