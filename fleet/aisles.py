@@ -16,6 +16,9 @@ pass, so each is entered by one robot at a time (``fleet.aisle_locks``). Found f
    short doorway in a thin wall narrow: a disc two robots wide bulges into it from either room.
 4. The rest of the centre's space, in 8-connected pieces bigger than ``MIN_AREA``, are the
    aisles, numbered in the grid's raster order (deterministic for a map).
+
+A robot gets its aisles as ``outlines`` (a polygon each, in the map frame; turned into its own
+frame like its pots, ``mission.patrol.aisle_outlines``): a few vertices each, not a grid.
 """
 from __future__ import annotations
 
@@ -93,6 +96,18 @@ def find_aisles(m: OccupancyMap, pots: np.ndarray | None = None, robot_radius: f
             labels[comp == c] = k
             k += 1
     return AisleMap(labels, m.geometry)
+
+
+def outlines(a: AisleMap) -> dict[int, np.ndarray]:
+    """Each aisle's outline, (K, 2) world points round its boundary cells' centres (its largest
+    piece: an aisle is 8-connected, so one), in the aisle map's frame."""
+    out = {}
+    for k in range(a.count):
+        contours, _ = cv2.findContours((a.labels == k).astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
+        cells = max(contours, key=cv2.contourArea).reshape(-1, 2)
+        x, y = a.geometry.centre_of(cells[:, 0], cells[:, 1])
+        out[k] = np.c_[x, y]
+    return out
 
 
 def rows(pots: np.ndarray) -> tuple[list[tuple[int, int]], list[tuple[int, float]]]:

@@ -1,0 +1,128 @@
+"""A patrol's gate at the aisles (spec/fleet.md "Aisles"): ask before entering, wait outside,
+back out when told to yield, let go on leaving.
+
+Before a leg the robot asks the arbiter (``mission.link.aisle_client``) for every aisle the
+leg's path crosses, the one it stands in included, all at once (all or none: no robot holds one
+aisle while it waits for the next). Refused, it waits *outside*: ``MOUTH`` short of the first aisle it does not hold and ``SIDE``
+off its way in, beside the mouth rather than in front of it, so a robot coming out of that
+aisle neither meets it in there nor drives into it on the way out (on its own path ``MOUTH``
+short when the ground beside is not clear); it asks again every ``RETRY`` s.
+Told to yield (its wait would close a cycle: it stands in an aisle another robot wants while it
+wants theirs), it backs out of its aisle by the nearer end (by the planner's path lengths) to
+beside its mouth, lets go of everything and asks again from there. On the way, the aisles it has left behind are let go
+(``progress``). With no arbiter in the fleet (no dispatcher, a robot alone) there is no gate at
+all: the patrol tree is built without one.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from mission.link.aisle_client import Answer
+from mission.patrol.aisle_outlines import NO_AISLE, AisleOutlines
+
+MOUTH = 0.6
+"""How far short of an aisle a refused robot waits, m of its path: its 0.22 m radius clear of
+the aisle's outline (``fleet.aisles.ROW_END`` already puts the outline 0.4 m past the end pots),
+with room for one leaving to turn out past it."""
+SIDE = 0.6
+"""How far to the side of the way in a refused robot waits, m: a robot's width (0.44 m) and a
+margin from the line a robot leaving the aisle drives along."""
+RETRY = 1.0
+"""Seconds between a waiting robot's requests (``fleet.aisle_locks.STALE_WAIT`` counts on it)."""
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """What the leg may do now: ``go``; or drive to ``to`` (x, y) and ask again (``back_out``:
+    let go of everything on getting there)."""
+
+    go: bool
+    to: np.ndarray | None = None
+    back_out: bool = False
+    held_by: dict[int, str] | None = None
+
+
+class AisleGate:
+    def __init__(self, ask: Callable[[list[int]], Answer | None], outlines: AisleOutlines):
+        self.ask, self.outlines = ask, outlines
+        self.held: list[int] = []
+
+    def enter(self, path: np.ndarray, lengths_from_here: Callable[[np.ndarray], np.ndarray]) -> Verdict:
+        """May the robot at ``path[0]`` drive ``path`` (K, 2)? ``lengths_from_here``: the
+        planner's path lengths from the robot to points (inf: unreachable), to back out by."""
+        want = self.outlines.along(path)
+        answer = self.ask(want)
+        if answer is not None and answer.granted:
+            self.held = want
+            return Verdict(True)
+        if answer is not None and answer.yield_:
+            return Verdict(False, self._open_ground(path[0], lengths_from_here), back_out=True, held_by=answer.held_by)
+        return Verdict(False, self._outside(path, lengths_from_here), held_by=answer.held_by if answer is not None else None)
+
+    def backed_out(self) -> None:
+        """On open ground after yielding: let go of every aisle."""
+        if self.ask([]) is not None:
+            self.held = []
+
+    def progress(self, ahead: np.ndarray) -> None:
+        """Driving, ``ahead`` (K, 2) the path left from the robot: let go of the aisles behind."""
+        keep = [a for a in self.held if a in self.outlines.along(ahead)]
+        if keep != self.held:
+            answer = self.ask(keep)
+            if answer is not None and answer.granted:
+                self.held = keep
+
+    def release(self) -> None:
+        self.backed_out()
+
+    def _outside(self, path: np.ndarray, lengths_from_here: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
+        """Beside the mouth of the first aisle on ``path`` not held (module docstring)."""
+        inside = self.outlines.at(path)
+        entry = next((i for i, a in enumerate(inside) if a != NO_AISLE and a not in self.held), len(path))
+        if entry == 0:
+            return path[0]
+        run = np.r_[0.0, np.cumsum(np.hypot(*np.diff(path[:entry + 1], axis=0).T))]
+        before = np.flatnonzero(run <= run[-1] - MOUTH)
+        on_path = path[before[-1]] if before.size else path[0]
+        way_in = path[entry] - path[max(0, entry - 3)]
+        d = way_in / max(float(np.hypot(*way_in)), 1e-9)
+        mouth = path[entry] - MOUTH * d
+        beside = np.array([mouth + side * SIDE * np.array([-d[1], d[0]]) for side in (1.0, -1.0)])
+        beside = beside[self._clear(beside)]
+        if len(beside):
+            lengths = lengths_from_here(beside)
+            if np.isfinite(lengths).any():
+                return beside[int(np.argmin(lengths))]
+        return on_path
+
+    def _clear(self, points: np.ndarray) -> np.ndarray:
+        """Points ``MOUTH`` clear of every aisle (checked round a ring that far out)."""
+        ok = self.outlines.at(points) == NO_AISLE
+        for angle in np.arange(8) * np.pi / 4:
+            ok &= self.outlines.at(points + MOUTH * np.array([np.cos(angle), np.sin(angle)])) == NO_AISLE
+        return ok
+
+    def _open_ground(self, here: np.ndarray, lengths_from_here: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
+        """Out of the aisle the robot is in by its nearer end (by the way there): ``MOUTH`` past
+        the end along the aisle, ``SIDE`` to either side of its line, clear of every aisle; where
+        it stands when it is in none."""
+        here = np.asarray(here, float)
+        k = int(self.outlines.at(here)[0])
+        if k == NO_AISLE:
+            return here
+        polygon = self.outlines.polygons[k]
+        centre = polygon.mean(axis=0)
+        along = np.linalg.svd(polygon - centre, full_matrices=False)[2][0]  # the aisle's long axis
+        across = np.array([-along[1], along[0]])
+        t = (polygon - centre) @ along
+        ends = [centre + (t.min() - MOUTH) * along, centre + (t.max() + MOUTH) * along]
+        points = np.array([e + side * SIDE * across for e in ends for side in (1.0, -1.0)])
+        points = points[self._clear(points)]
+        if not len(points):
+            return here
+        lengths = lengths_from_here(points)
+        best = int(np.argmin(lengths))
+        return points[best] if np.isfinite(lengths[best]) else here

@@ -1,0 +1,113 @@
+"""Two patrols' aisle gates (mission/patrol/aisle_gate.py) against the dispatcher's arbiter through
+a real router (mutual TLS, the fleet's access control), on the tiny greenhouse's aisle map given
+as outlines (fleet.aisles.outlines). The robots are their gates driven by synthetic poses along
+straight paths; lengths are straight-line (the tree gives the planner's)."""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pytest
+
+from fleet.aisle_locks import AisleLockServer
+from fleet.aisles import find_aisles, outlines
+from mission.link.aisle_client import AisleLockClient
+from mission.link.wire import alive_key
+from mission.patrol.aisle_gate import MOUTH, SIDE, AisleGate
+from mission.patrol.aisle_outlines import NO_AISLE, AisleOutlines
+from tests.fleet.conftest import member, wait_for
+from tests.fleet.test_aisles import tiny_greenhouse
+from tests.nav.builders import straight_path
+
+
+def _outlines() -> tuple[AisleOutlines, int, int]:
+    """The tiny greenhouse's aisles; A between the rows at y 1 and 2, B between 2 and 3."""
+    m, pots = tiny_greenhouse()
+    found = find_aisles(m, pots)
+    shapes = AisleOutlines(outlines(found))
+    return shapes, int(found.at(3.5, 1.5)), int(found.at(3.5, 2.5))
+
+
+def _path(*corners) -> np.ndarray:
+    return np.vstack([straight_path(a, b) for a, b in zip(corners, corners[1:])])
+
+
+def _straight(here: np.ndarray):
+    return lambda points: np.hypot(*(np.asarray(points) - here).T)
+
+
+def test_outlines_hold_what_the_aisle_map_does():
+    m, pots = tiny_greenhouse()
+    found = find_aisles(m, pots)
+    shapes = AisleOutlines(outlines(found))
+    x, y = np.meshgrid(np.arange(0.3, 6.8, 0.1), np.arange(0.3, 3.8, 0.1))
+    truth, got = found.at(x.ravel(), y.ravel()), shapes.at(np.c_[x.ravel(), y.ravel()])
+    assert len(shapes.polygons) == found.count == 4
+    assert (truth == got).mean() >= 0.97  # a boundary cell's half may fall either side
+    path = _path((1.0, 0.5), (6.0, 0.5), (6.0, 3.5))
+    assert shapes.along(path) == found.along(path)
+
+
+@pytest.fixture
+def fleet(router, certs):
+    """The arbiter on the dispatcher's session; r1 and r2 up, each asking on its own key."""
+    dispatcher, r1, r2 = (member(router, certs, n) for n in ("dispatcher", "r1", "r2"))
+    server = AisleLockServer(dispatcher, time.monotonic)
+    tokens = [s.liveliness().declare_token(alive_key(n)) for s, n in ((r1, "r1"), (r2, "r2"))]
+    assert wait_for(lambda: server.roster.robots() == ["r1", "r2"])
+    shapes, a, b = _outlines()
+    gates = {n: AisleGate(AisleLockClient(s, n).ask, shapes) for s, n in ((r1, "r1"), (r2, "r2"))}
+    try:
+        yield server, gates, shapes, a, b
+    finally:
+        del tokens
+        server.close()
+        for s in (dispatcher, r1, r2):
+            s.close()
+
+
+@pytest.mark.slow
+def test_two_robots_sent_into_one_aisle_from_both_ends_the_second_waits_outside_until_the_first_leaves(fleet):
+    server, gates, shapes, a, _ = fleet
+    east = _path((0.8, 1.5), (6.2, 1.5))  # r1, west to east through A
+    west = _path((6.3, 1.5), (0.8, 1.5))  # r2, east to west through A
+    assert gates["r1"].enter(east, _straight(east[0])).go
+    refused = gates["r2"].enter(west, _straight(west[0]))
+    assert not refused.go and not refused.back_out and refused.held_by == {a: "r1"}
+    wait = refused.to
+    assert shapes.at(wait)[0] == NO_AISLE and wait[0] > 5.4  # outside, at r2's own end
+    off_way = np.abs(east[:, 1] - wait[1]).min()
+    assert off_way >= SIDE - 1e-9  # beside the mouth: r1 leaves along y = 1.5 and passes it
+    assert min(np.hypot(*(q - wait)) for q in east if shapes.at(q)[0] == a) >= MOUTH - 0.05
+    from_wait = _path(tuple(wait), (6.0, 1.5), (0.8, 1.5))
+    for i in range(len(east)):  # r1 drives; r2 asks again as it goes
+        gates["r1"].progress(east[i:])
+        now_in_a = shapes.at(east[i])[0] == a
+        if now_in_a:
+            assert not gates["r2"].enter(from_wait, _straight(wait)).go, f"r2 let in while r1 is in A at {east[i]}"
+    assert server.table.held() == {}  # r1 left A behind: let go
+    assert gates["r2"].enter(from_wait, _straight(wait)).go and server.table.held() == {a: "r2"}
+
+
+@pytest.mark.slow
+def test_two_robots_each_in_the_aisle_the_other_wants_one_backs_out_and_both_get_through(fleet):
+    server, gates, shapes, a, b = fleet
+    in_a, in_b = np.array([4.5, 1.5]), np.array([4.5, 2.5])  # nearer the east ends
+    assert gates["r1"].enter(_path(tuple(in_a), (4.0, 1.5)), _straight(in_a)).go  # each inspecting in its aisle
+    assert gates["r2"].enter(_path(tuple(in_b), (4.0, 2.5)), _straight(in_b)).go
+    to_b = _path(tuple(in_a), (6.0, 1.5), (6.0, 2.5), (3.0, 2.5))
+    to_a = _path(tuple(in_b), (6.0, 2.5), (6.0, 1.5), (3.0, 1.5))
+    first = gates["r1"].enter(to_b, _straight(in_a))
+    assert not first.go and not first.back_out  # r1 waits for r2 ...
+    second = gates["r2"].enter(to_a, _straight(in_b))
+    assert not second.go and second.back_out  # ... and r2 waiting too would be a deadlock: it yields
+    out = second.to
+    assert shapes.at(out)[0] == NO_AISLE and out[0] > shapes.polygons[b][:, 0].max() + MOUTH - 0.05  # B's nearer end
+    gates["r2"].backed_out()  # there: lets go of B
+    assert server.table.held() == {a: "r1"}
+    assert gates["r1"].enter(to_b, _straight(in_a)).go and server.table.held() == {a: "r1", b: "r1"}
+    again = gates["r2"].enter(_path(tuple(out), (6.0, 1.5), (3.0, 1.5)), _straight(out))
+    assert not again.go and not again.back_out  # r2 now only waits, outside, for r1 to be through
+    gates["r1"].progress(to_b[-3:])  # r1 in B at its pot: A is behind it
+    assert server.table.held() == {b: "r1"}
+    assert gates["r2"].enter(_path(tuple(out), (6.0, 1.5), (3.0, 1.5)), _straight(out)).go
