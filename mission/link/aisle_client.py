@@ -9,6 +9,7 @@ point down: the arbiter imports its wire format from here.
 from __future__ import annotations
 
 import json
+import threading
 from dataclasses import dataclass, field
 
 import zenoh
@@ -46,8 +47,24 @@ def read_answer(payload: bytes) -> Answer | None:
         return None
 
 
+class Pending:
+    """A request in flight, answered on Zenoh's thread: the runtime's loop polls ``answered``
+    and never waits on the link."""
+
+    def __init__(self, aisles: list[int]):
+        self.aisles = sorted(aisles)
+        self.answered = threading.Event()
+        """Set once the arbiter replied or the query ended unanswered (``answer`` None)."""
+        self.answer: Answer | None = None
+
+    def _on_reply(self, reply: zenoh.Reply) -> None:
+        if reply.ok is not None and self.answer is None:
+            self.answer = read_answer(reply.ok.payload.to_bytes())
+
+
 class AisleLockClient:
-    """Ask for the aisles of the next leg, or let go of them all."""
+    """Ask for the aisles of the next leg, or let go of them all: ``ask`` waits for the
+    answer (a tool, a test), ``ask_later`` does not (the runtime)."""
 
     def __init__(self, session: zenoh.Session, robot: str, timeout: float = 2.0):
         self.session, self.key, self.timeout = session, ask_key(robot), timeout
@@ -58,6 +75,12 @@ class AisleLockClient:
             if reply.ok is not None:
                 return read_answer(reply.ok.payload.to_bytes())
         return None
+
+    def ask_later(self, aisles: list[int]) -> Pending:
+        pending = Pending(aisles)
+        self.session.get(self.key, zenoh.handlers.Callback(pending._on_reply, pending.answered.set),
+                         payload=dumps({"aisles": pending.aisles}), timeout=self.timeout)
+        return pending
 
     def release(self) -> bool:
         a = self.ask([])

@@ -20,7 +20,7 @@ from typing import Callable
 
 import numpy as np
 
-from mission.link.aisle_client import Answer
+from mission.link.aisle_client import AisleLockClient, Answer
 from mission.patrol.aisle_outlines import NO_AISLE, AisleOutlines
 
 MOUTH = 0.6
@@ -46,15 +46,20 @@ class Verdict:
 
 
 class AisleGate:
-    def __init__(self, ask: Callable[[list[int]], Answer | None], outlines: AisleOutlines):
-        self.ask, self.outlines = ask, outlines
+    def __init__(self, client: AisleLockClient, outlines: AisleOutlines):
+        self.client, self.outlines = client, outlines
         self.held: list[int] = []
+        """The aisles the arbiter last granted this robot (and not let go since)."""
 
-    def enter(self, path: np.ndarray, lengths_from_here: Callable[[np.ndarray], np.ndarray]) -> Verdict:
-        """May the robot at ``path[0]`` drive ``path`` (K, 2)? ``lengths_from_here``: the
-        planner's path lengths from the robot to points (inf: unreachable), to back out by."""
-        want = self.outlines.along(path)
-        answer = self.ask(want)
+    def want(self, path: np.ndarray) -> list[int]:
+        """Every aisle ``path`` (K, 2) crosses, the one it starts in included: one request."""
+        return self.outlines.along(path)
+
+    def verdict(self, path: np.ndarray, want: list[int], answer: Answer | None,
+                lengths_from_here: Callable[[np.ndarray], np.ndarray]) -> Verdict:
+        """What the robot at ``path[0]`` does on ``answer`` to its request for ``want`` (None:
+        none came, as refused). ``lengths_from_here``: the planner's path lengths from the
+        robot to points (inf: unreachable), to wait and back out by."""
         if answer is not None and answer.granted:
             self.held = want
             return Verdict(True)
@@ -62,21 +67,24 @@ class AisleGate:
             return Verdict(False, self._open_ground(path[0], lengths_from_here), back_out=True, held_by=answer.held_by)
         return Verdict(False, self._outside(path, lengths_from_here), held_by=answer.held_by if answer is not None else None)
 
+    def enter(self, path: np.ndarray, lengths_from_here: Callable[[np.ndarray], np.ndarray]) -> Verdict:
+        """Ask for ``path``'s aisles and wait for the answer (a tool, a test; the patrol asks
+        without waiting: ``behaviours.aisles``)."""
+        want = self.want(path)
+        return self.verdict(path, want, self.client.ask(want), lengths_from_here)
+
     def backed_out(self) -> None:
         """On open ground after yielding: let go of every aisle."""
-        if self.ask([]) is not None:
-            self.held = []
+        self.client.ask_later([])
+        self.held = []
 
     def progress(self, ahead: np.ndarray) -> None:
-        """Driving, ``ahead`` (K, 2) the path left from the robot: let go of the aisles behind."""
+        """Driving, ``ahead`` (K, 2) the path left from the robot: let go of the aisles behind
+        (asking for fewer than it holds is always granted)."""
         keep = [a for a in self.held if a in self.outlines.along(ahead)]
         if keep != self.held:
-            answer = self.ask(keep)
-            if answer is not None and answer.granted:
-                self.held = keep
-
-    def release(self) -> None:
-        self.backed_out()
+            self.client.ask_later(keep)
+            self.held = keep
 
     def _outside(self, path: np.ndarray, lengths_from_here: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
         """Beside the mouth of the first aisle on ``path`` not held (module docstring)."""

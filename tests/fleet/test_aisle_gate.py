@@ -56,7 +56,7 @@ def fleet(router, certs):
     tokens = [s.liveliness().declare_token(alive_key(n)) for s, n in ((r1, "r1"), (r2, "r2"))]
     assert wait_for(lambda: server.roster.robots() == ["r1", "r2"])
     shapes, a, b = _outlines()
-    gates = {n: AisleGate(AisleLockClient(s, n).ask, shapes) for s, n in ((r1, "r1"), (r2, "r2"))}
+    gates = {n: AisleGate(AisleLockClient(s, n), shapes) for s, n in ((r1, "r1"), (r2, "r2"))}
     try:
         yield server, gates, shapes, a, b
     finally:
@@ -85,7 +85,7 @@ def test_two_robots_sent_into_one_aisle_from_both_ends_the_second_waits_outside_
         now_in_a = shapes.at(east[i])[0] == a
         if now_in_a:
             assert not gates["r2"].enter(from_wait, _straight(wait)).go, f"r2 let in while r1 is in A at {east[i]}"
-    assert server.table.held() == {}  # r1 left A behind: let go
+    assert wait_for(lambda: server.table.held() == {})  # r1 left A behind: let go
     assert gates["r2"].enter(from_wait, _straight(wait)).go and server.table.held() == {a: "r2"}
 
 
@@ -104,10 +104,10 @@ def test_two_robots_each_in_the_aisle_the_other_wants_one_backs_out_and_both_get
     out = second.to
     assert shapes.at(out)[0] == NO_AISLE and out[0] > shapes.polygons[b][:, 0].max() + MOUTH - 0.05  # B's nearer end
     gates["r2"].backed_out()  # there: lets go of B
-    assert server.table.held() == {a: "r1"}
+    assert wait_for(lambda: server.table.held() == {a: "r1"})
     assert gates["r1"].enter(to_b, _straight(in_a)).go and server.table.held() == {a: "r1", b: "r1"}
     again = gates["r2"].enter(_path(tuple(out), (6.0, 1.5), (3.0, 1.5)), _straight(out))
     assert not again.go and not again.back_out  # r2 now only waits, outside, for r1 to be through
     gates["r1"].progress(to_b[-3:])  # r1 in B at its pot: A is behind it
-    assert server.table.held() == {b: "r1"}
+    assert wait_for(lambda: server.table.held() == {b: "r1"})
     assert gates["r2"].enter(_path(tuple(out), (6.0, 1.5), (3.0, 1.5)), _straight(out)).go
