@@ -24,6 +24,7 @@ from hw.people import nobody
 from hw.power_policy import RATE as POWER_RATE
 from mission.history.recorder import PatrolRecorder, start_recording
 from mission.history.store import History
+from mission.patrol.aisle_gate import AisleGate
 from mission.patrol.climate import ClimateSource, NoClimate
 from mission.patrol.faults import RATE as FAULT_RATE, Faults
 from mission.patrol.monitor_holds import RATE as HOLDS_RATE, MonitorHolds
@@ -179,11 +180,12 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
                  climate: ClimateSource | None = None,
                  truth_error: Callable[[Pose2D], dict[str, float]] | None = None,
                  before_mission: Callable[[PatrolRun], None] = lambda run: None,
-                 history: History | None = None, world: str | None = None) -> PatrolRun:
+                 history: History | None = None, world: str | None = None, gate: AisleGate | None = None) -> PatrolRun:
     """Schedule the tree (and the path trace) on a running robot with navigation;
     ``before_mission(run)`` schedules what must run before the tree at a shared instant.
     With ``history`` the patrol is recorded there as it goes (``world``: the sim world's name)
-    and the report gains ``changes`` against the previous patrol of the same mission."""
+    and the report gains ``changes`` against the previous patrol of the same mission. ``gate``:
+    a fleet's aisle locks (``mission.patrol.aisle_gate``; None: a robot alone)."""
     save_config(config, Path(report_path).parent)
     write_atomic(Path(report_path).parent / MISSION_FILE, dump_mission(mission).encode())  # what --resume reads
     perception = reading_mission_tags(perception, mission)
@@ -191,7 +193,7 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
     cameras = camera_pipelines(robot.hal.cameras, clock, perception)
     report = PatrolReport(Path(report_path), mission, config.patrol, climate or NoClimate(), clock.now, wall_now,
                           lambda: robot.base.odometry.distance, truth_error)
-    tree = PatrolTree(mission, robot, nav, cameras, report, TagReader(perception.tag), config.patrol)
+    tree = PatrolTree(mission, robot, nav, cameras, report, TagReader(perception.tag), config.patrol, gate=gate)
     report.estop_events = tree.holds.estop_events
     recorder = start_recording(history, mission, config.link.robot, world, Path(report_path))
     if recorder is not None:

@@ -15,6 +15,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Callable
 
+import numpy as np
 from sqlalchemy.exc import SQLAlchemyError
 
 from arm.calibration import Calibration, CalibrationError
@@ -28,8 +29,11 @@ from mission.history.answers import BadQuery, answer
 from mission.history.recorder import PatrolRecorder
 from mission.history.store import History, reason
 from mission.jobs.patrol import PatrolRun, start_patrol
+from mission.link.aisle_client import AisleLockClient
 from mission.link.commands import CommandRefused
 from mission.link.wire import dumps
+from mission.patrol.aisle_gate import AisleGate
+from mission.patrol.aisle_outlines import AisleOutlines
 from mission.patrol.climate import ClimateSource, NoClimate, TableClimate
 from mission.patrol.mission_file import Mission, parse_mission
 from mission.patrol.report import pose_error
@@ -74,6 +78,8 @@ class Service:
     """The sim world's name, for the history; None on the robot."""
     report_path: Path | None = None
     """The current or last patrol's report.json (the ``report`` command reads it)."""
+    aisle_client: AisleLockClient | None = None
+    """Its way to the fleet's aisle locks, while its link is joined to a router (None: alone)."""
     _calibration: Calibration | None = None
     _writing: list[PatrolRecorder] = field(default_factory=list)
     _count: int = 0
@@ -129,7 +135,7 @@ class Service:
             raise CommandRefused("pause: no mission is running")
         self.run.tree.holds.pause()
 
-    def mission_start(self, mission: dict | None = None) -> None:
+    def mission_start(self, mission: dict | None = None, aisles: dict[int, list] | None = None) -> None:
         if self.run is not None:
             raise CommandRefused(f"mission_start: {self.run.tree.mission.name!r} is still running (abort it first)")
         try:
@@ -140,8 +146,12 @@ class Service:
             recorder.wait(2.0, retry=False)
         self._count += 1
         report = self.report_path = self.runs / f"{m.name}-{self._count}" / "report.json"
+        gate = None
+        if aisles and self.aisle_client is not None:  # a fleet's patrol: the aisles asked for on the way
+            gate = AisleGate(self.aisle_client, AisleOutlines({int(k): np.asarray(v, float) for k, v in aisles.items()}))
         self.run = start_patrol(self.robot, self.nav, m, self.config, self.perception, report, self.wall_now,
-                                lambda: None, self.climate, self.truth_error, history=self.history, world=self.world)
+                                lambda: None, self.climate, self.truth_error, history=self.history, world=self.world,
+                                gate=gate)
         for listener in self.on_run:
             listener(self.run)
         log.info("patrol %s started (%d pots)", m.name, len(m.pots))

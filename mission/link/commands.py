@@ -36,6 +36,10 @@ class NoArgs(_Args):
 class MissionStartArgs(_Args):
     mission: Optional[dict[str, Any]] = None
     """A mission as spec/mission.md's mapping; none: every pot of the world."""
+    aisles: Optional[dict[int, list[tuple[float, float]]]] = None
+    """A fleet's aisles, an outline each in the mission's frame (``fleet.aisles.outlines``), from
+    the dispatcher: the patrol asks for them before it drives (``mission.patrol.aisle_gate``);
+    none: no aisle is asked for, as a robot alone."""
 
 
 class TeleopArgs(_Args):

@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 
 import zenoh
 
+from mission.link.aisle_client import AisleLockClient
 from mission.link.commands import CommandRefused, parse_command
 from mission.link.config import LinkConfig
 from mission.link.outbox import Outbox
@@ -66,6 +67,8 @@ class LinkServer:
         self._queryable = self.session.declare_queryable(cmd_key(config.robot, "*"), self._on_query)
         self._stops = [self.session.declare_queryable(k, self._on_stop) for k in (stop_key(config.robot), FLEET_STOP)]
         self._alive = self.session.liveliness().declare_token(alive_key(config.robot))
+        if connect:  # in a fleet: its patrols ask the dispatcher for aisles through this session
+            service.aisle_client = AisleLockClient(self.session, config.robot)
         self._log = LinkLogHandler(self.outbox, config.robot, lambda: service.now)
         logging.getLogger().addHandler(self._log)
         sched = service.robot.scheduler
@@ -134,5 +137,6 @@ class LinkServer:
         for q in self._stops:
             q.undeclare()
         self._alive.undeclare()
+        self.service.aisle_client = None
         self.outbox.close()
         self.session.close()

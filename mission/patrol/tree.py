@@ -52,6 +52,11 @@ until scans return, and past ``patrol.lidar_lost_give_up`` ends the patrol ``abo
 (``mission.patrol.lidar_loss``). A paused robot does not drive home on power-low until resumed: the operator who paused
 it is in charge.
 
+In a fleet (the mission came with the fleet's aisles, and the link joins a router) every drive
+first asks for the aisles on its way (``behaviours.aisles.EnterAisles``, the gate
+``mission.patrol.aisle_gate``), a leaf beside the pots lets go of those behind, and the finish
+lets go of all; a robot alone has no gate and its tree is exactly the one above.
+
 Pots are found where they are (``mission.patrol.pot_finder``): the tag read at arrival places
 the pot; a pot off the mission's pose is approached again from where it is and reported
 ``moved``; with no tag where the pot should be, the pots the map shows nearby are looked at for
@@ -80,6 +85,7 @@ from py_trees.composites import Parallel, Selector, Sequence
 from py_trees.decorators import OneShot, Retry
 
 from arm.presets import preset
+from behaviours.aisles import EnterAisles, LetGoBehind
 from behaviours.arm import MoveArm
 from behaviours.guard import Hold
 from behaviours.navigate import NavigateTo
@@ -90,6 +96,7 @@ from behaviours.timeout import Timeout
 from behaviours.visit import PotVisit
 from hw.interfaces import Clock
 from hw.odometry import Pose2D
+from mission.patrol.aisle_gate import RETRY, AisleGate
 from mission.patrol.config import PatrolConfig
 from mission.patrol.energy import EnergyBudget
 from mission.patrol.legs import LegLog, Legs, LegsSection
@@ -139,6 +146,8 @@ class PatrolTree:
     not getting home makes the outcome ``failed``."""
     holds: MissionHolds | None = None
     """The e-stop latch and the pause (default: on the robot's e-stop bridge)."""
+    gate: AisleGate | None = None
+    """A fleet's aisle locks (None: a robot alone, no aisle is asked for)."""
     root: Behaviour | None = None
 
     def __post_init__(self) -> None:
@@ -202,6 +211,9 @@ class PatrolTree:
     def _drive(self, name: str, goal: Callable[[], Pose2D], on_start: Callable[[], None] = lambda: None,
                xy_tolerance: float | None = None) -> Retry:
         attempt = self._timed(NavigateTo(name, self.nav, goal, self.clock, on_start, xy_tolerance), self.mission.nav_timeout)
+        if self.gate is not None:  # the aisles first, outside the drive's time limit: a wait may be long
+            attempt = Sequence(f"{name} (aisles)", memory=True, children=[
+                EnterAisles(f"aisles for {name}", self.gate, self.nav, goal, self.clock, self._lengths_from, RETRY), attempt])
         return Retry(f"{name} (x{self.mission.retries})", attempt, self.mission.retries)
 
     def _arm(self, name: str, goal: Callable[[], tuple[object, str]]) -> Timeout:
@@ -247,6 +259,8 @@ class PatrolTree:
                                                            Do("on the dock", self.legs.returned)])
             steps.insert(0, Selector("unless parked", memory=True, children=[
                 Check("parked clear of the aisles?", lambda: self.plan.parked is not None), home]))
+        if self.gate is not None:
+            steps.append(Do("let go of the aisles", self.gate.backed_out))
         return Sequence(name, memory=True, children=steps)
 
     def _to_dock(self, name: str) -> Retry:
@@ -266,9 +280,10 @@ class PatrolTree:
         watch = WatchTags("watch tags", self.cameras["front"], self.tag_reader,
                           lambda frame, reads: self.report.saw(reads, self.nav.map_pose()),
                           self.nav.map_pose, c.watch_spacing, c.watch_turn)
+        beside = [watch] if self.gate is None else [watch, LetGoBehind("let go behind", self.gate, self.nav, self.clock, RETRY)]
         patrol = Sequence("patrol", memory=True, children=[
             OneShot("start-up (once)", self._timed(startup, c.startup_timeout), OneShotPolicy.ON_COMPLETION),
-            Parallel("pots and tags", ParallelPolicy.SuccessOnSelected([pots]), children=[pots, watch]),
+            Parallel("pots and tags", ParallelPolicy.SuccessOnSelected([pots]), children=[pots, *beside]),
             self._finish("finish")])
         battery = Sequence("battery low", memory=True, children=[Check("battery low?", self._battery_low),
                                                                   self._finish("go home")])
@@ -384,7 +399,7 @@ class PatrolTree:
         while node is not None and node.children:
             if isinstance(node, Hold) and node.reason:
                 return node.reason
-            node = next((c for c in node.children if c.status is Status.RUNNING and not isinstance(c, WatchTags)), None)
+            node = next((c for c in node.children if c.status is Status.RUNNING and not isinstance(c, (WatchTags, LetGoBehind))), None)
         return node.name if node is not None else ""
 
     def pots_done(self) -> int:
