@@ -135,7 +135,7 @@ class Service:
             raise CommandRefused("pause: no mission is running")
         self.run.tree.holds.pause()
 
-    def mission_start(self, mission: dict | None = None, aisles: dict[int, list] | None = None) -> None:
+    def mission_start(self, mission: dict | None = None, aisles: dict[str, list] | None = None) -> None:
         if self.run is not None:
             raise CommandRefused(f"mission_start: {self.run.tree.mission.name!r} is still running (abort it first)")
         try:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import hmac
 import json
-from typing import Any, Literal, Optional
+from typing import Annotated, Any, Literal, Optional
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
@@ -33,13 +33,18 @@ class NoArgs(_Args):
     pass
 
 
+AisleId = Annotated[str, Field(pattern=r"^[0-9]+$")]
+Vertex = Annotated[list[float], Field(min_length=2, max_length=2)]
+"""x, y, m."""
+
+
 class MissionStartArgs(_Args):
     mission: Optional[dict[str, Any]] = None
     """A mission as spec/mission.md's mapping; none: every pot of the world."""
-    aisles: Optional[dict[int, list[tuple[float, float]]]] = None
-    """A fleet's aisles, an outline each in the mission's frame (``fleet.aisles.outlines``), from
-    the dispatcher: the patrol asks for them before it drives (``mission.patrol.aisle_gate``);
-    none: no aisle is asked for, as a robot alone."""
+    aisles: Optional[dict[AisleId, list[Vertex]]] = None
+    """A fleet's aisles, an outline each in the mission's frame (``fleet.aisles.outlines``; the
+    id a JSON key), from the dispatcher: the patrol asks for them before it drives
+    (``mission.patrol.aisle_gate``); none: no aisle is asked for, as a robot alone."""
 
 
 class TeleopArgs(_Args):

@@ -44,6 +44,8 @@ def test_engaging_the_soft_estop_needs_no_token_everything_else_does():
     ("teleop", b"\xff\xfe", "not a JSON object"),
     ("teleop", b"{" * 100000, "payload of"),
     ("clear_map", b'{"\\n": null}', "clear_map: \\n: Extra inputs"),  # found by hypothesis: one line, always
+    ("mission_start", b'{"aisles": {"A": [[0, 0]]}, "token": "s3cret"}', "aisles.A.[key]"),
+    ("mission_start", b'{"aisles": {"0": [[0, 0, 1]]}, "token": "s3cret"}', "aisles.0.0: List should have at most 2"),
 ])
 def test_malformed_commands_are_refused_with_the_reason(name, payload, words):
     with pytest.raises(CommandRefused) as exc:
@@ -76,3 +78,8 @@ def test_a_runtime_without_a_token_takes_only_the_stop():
     assert parse_command("estop", b'{"engaged": true}', "").engaged
     with pytest.raises(CommandRefused, match="no operator token"):
         parse_command("pause", b'{"token": ""}', "")
+
+
+def test_a_mission_comes_with_a_fleets_aisles_as_outlines():
+    args = cmd("mission_start", aisles={"3": [[0, 0], [1.5, 0], [1.5, 0.8]]}, token=TOKEN)
+    assert args.aisles == {"3": [[0.0, 0.0], [1.5, 0.0], [1.5, 0.8]]} and cmd("mission_start", token=TOKEN).aisles is None
