@@ -2,8 +2,9 @@
 runtime each in lock-step, each link on the TLS router under its certificate) with the
 dispatcher's arbiter on the router: each patrol is started as the dispatcher starts one
 (``mission_start`` with the fleet's aisles as outlines in the robot's own frame), both need the
-middle aisle of the 3 x 4 greenhouse at once, and judged on ground truth the two robots are
-never in one aisle together, one of them waited for it, and both inspect their pots."""
+middle aisle of the 3 x 4 greenhouse at once (or each inspects in one aisle and goes on to the
+other's), and judged on ground truth the two robots are never in one aisle together, and both
+inspect their pots and come home."""
 from __future__ import annotations
 
 import json
@@ -29,8 +30,11 @@ from tests.fleet.conftest import member, wait_for
 
 pytestmark = pytest.mark.slow
 
-POTS = {"r1": ["P08"], "r2": ["P05"]}
+ONE_AISLE = {"r1": ["P08"], "r2": ["P05"]}
 """The middle aisle's (between the rows at y 2 and 3) east and west end pots, from docks at its west."""
+CROSSED = {"r1": ["P07", "P03"], "r2": ["P02", "P06"]}
+"""Each robot inspects in one aisle (the middle one, the south strip) and goes on to the other's:
+a deadlock's shape, when each asks from inside its own."""
 
 
 def _in_frame(polygon: np.ndarray, dock) -> list[list[float]]:
@@ -40,6 +44,17 @@ def _in_frame(polygon: np.ndarray, dock) -> list[list[float]]:
 
 
 def test_two_patrols_into_one_aisle_take_turns(router, certs, tmp_path):
+    waited = _patrols(ONE_AISLE, router, certs, tmp_path)
+    assert waited, "no robot ever waited for the aisle: the test did not test it"
+
+
+def test_two_patrols_each_going_on_to_the_aisle_the_other_is_in_both_finish(router, certs, tmp_path):
+    _patrols(CROSSED, router, certs, tmp_path)
+
+
+def _patrols(pots_of: dict[str, list[str]], router, certs, tmp_path) -> set[str]:
+    """Each robot patrols its pots; asserts they never share an aisle and all complete, and
+    returns the robots that waited outside an aisle."""
     world = generate_world(3, 4, 1, robots=2)
     pots = np.array([(p.x, p.y, p.facing) for p in world.pots])
     shapes = outlines(find_aisles(plan_of_world(world, (0.0, 0.0, 0.0)), pots))  # the world's frame
@@ -71,18 +86,18 @@ def test_two_patrols_into_one_aisle_take_turns(router, certs, tmp_path):
         for k, r in enumerate(("r1", "r2")):
             mine = world.for_robot(k)
             m = mission_from_world(mine)
-            m = m.model_copy(update={"pots": [p for p in m.pots if p.id in POTS[r]], "order": "as_listed"})
+            m = m.model_copy(update={"pots": [p for i in pots_of[r] for p in m.pots if p.id == i], "order": "as_listed"})
             aisles = {str(a): _in_frame(poly, mine.spawn) for a, poly in shapes.items()}
             assert console.client(r).send("mission_start", mission=m.model_dump(mode="json"), aisles=aisles) is None
         assert wait_for(lambda: all(s.outcome for s in fleet.services.values()), 400), \
             f"not done: {[s.run.tree.current_step() for s in fleet.services.values() if s.run is not None]}"
         assert together == [], f"two robots in one aisle: {together[:5]}"
-        assert waited, "no robot ever waited for the aisle: the test did not test it"
         for r, s in fleet.services.items():
             assert s.outcome == "completed"
             report = json.loads(s.report_path.read_text())
-            assert [(p["id"], p["status"]) for p in report["pots"]] == [(p, "inspected") for p in POTS[r]]
+            assert sorted((p["id"], p["status"]) for p in report["pots"]) == sorted((p, "inspected") for p in pots_of[r])
         assert wait_for(lambda: arbiter.table.held() == {})  # home, both let go
+        return waited
     finally:
         console.close()
         arbiter.close()
