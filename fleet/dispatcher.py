@@ -57,10 +57,6 @@ LOST_AFTER = 3.0
 machine stalled past the robots' 800 ms lease drops every token at once and they are back as
 soon as it goes on (``mission.link.roster``), and handing a live robot's pots over costs a
 patrol; a robot really gone waits 3 s longer for its pots to move (``fleet.aisle_locks``' grace)."""
-START_WAIT = 60.0
-"""Wall seconds a robot whose ``mission_start`` answer was late or lost has to show its patrol
-running in its telemetry: a runtime takes a queued command late when it is busy (its first
-patrol compiles the planner's kernels; a fleet sim steps every robot on one machine)."""
 
 
 class DispatchError(Exception):
@@ -106,6 +102,8 @@ class Member:
     estop_since: float | None = None
     fetched_at: float = float("-inf")
     absent_since: float | None = None
+    part: set[str] = field(default_factory=set)
+    """The pots of its current (or last) patrol."""
     path: list[tuple[float, float]] = field(default_factory=list)
 
     def all_reports(self) -> list[dict]:
@@ -178,24 +176,15 @@ class Dispatcher:
         data = part.model_dump(mode="json")
         data["pots"] = [p.model_dump(mode="json", exclude_none=True) for p in part.pots]
         error = m.client.send("mission_start", mission=data)
-        if error is not None and not self._started(m, part):
+        if error is not None and " within " not in error:
             raise DispatchError(f"{m.name} refused its patrol: {error}")
+        if error is not None:  # queued on a busy runtime (its first patrol compiles the planner's kernels): it comes
+            self.say(f"{m.name}: {error}; following it")
         m.assigned += [p.id for p in part.pots if p.id not in m.assigned]
+        m.part = {p.id for p in part.pots}
         m.on_patrol, m.current, m.fetched_at = True, None, float("-inf")
         if m.t0 is None:
             m.t0 = m.client.view().t
-
-    def _started(self, m: Member, part: Mission) -> bool:
-        """Did the patrol start after all (the answer lost or late: a busy runtime takes the
-        command after the link's timeout)? Its telemetry says so within ``START_WAIT``."""
-        deadline = self.clock() + START_WAIT
-        while self.clock() < deadline:
-            v = m.client.view()
-            if v.mission_name == part.name and v.mission_state in ("running", "paused", "estop") and \
-                    len(v.pots) == len(part.pots):
-                return True
-            time.sleep(POLL)
-        return False
 
     # --- following ---------------------------------------------------------------------------
     def step(self) -> bool:
@@ -244,7 +233,8 @@ class Dispatcher:
     def _fetch(self, m: Member) -> None:
         m.fetched_at = self.clock()
         got, error = m.client.ask("report")
-        if error is None and got is not None and got.get("mission") == self.mission.name:
+        if error is None and got is not None and got.get("mission") == self.mission.name and \
+                {p["id"] for p in got.get("pots", [])} <= m.part:  # this patrol's, not the one before
             m.current = got
 
     def _takers(self, giver: Member) -> list[str]:
@@ -271,7 +261,8 @@ class Dispatcher:
         if m.client.view().connected:
             m.t_end = m.client.view().t
         done = m.inspected()
-        left = [p for p in m.assigned if p not in done]
+        left = [p for p in m.assigned if p not in done]  # those waiting for its next patrol too
+        m.waiting = []
         m.handed_over = left
         takers = self._takers(m)
         self.say(f"{m.name}: out ({why}); {len(left)} pots to {', '.join(takers) or 'nobody'}")
@@ -284,6 +275,7 @@ class Dispatcher:
             taker = self.members[r]
             self.handovers.append(Handover(ids, m.name, r, why, since))
             taker.received += ids
+            taker.assigned += [i for i in ids if i not in taker.assigned]  # its own to hand on, should it drop out too
             taker.waiting += ids
             if not taker.on_patrol:
                 pots, taker.waiting = taker.waiting, []
