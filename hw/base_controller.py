@@ -106,6 +106,11 @@ class BaseController:
     def period(self) -> float:
         return 1.0 / self.config.control_rate
 
+    def driving(self) -> bool:
+        """Are the wheels told to turn (a non-zero reference this beat)? A robot held, or pushed
+        along by someone while told to stand, is not driving."""
+        return bool(np.any(self.reference != 0.0))
+
     def tick(self, now: float) -> np.ndarray:
         """One control beat at time ``now``; returns the duties written."""
         measured_ok = self._measure(now)

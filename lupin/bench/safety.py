@@ -13,11 +13,13 @@ until at least ``LUPIN_BENCH_PEOPLE_ENCOUNTERS`` (default ``MIN_ENCOUNTERS``) pe
 have been counted; every patrol counts. An encounter is a walker within 1.0 m of the robot's
 body on ground truth (``mission.jobs.people_log``), not a collision-monitor hold: issue 28
 found the holds for pots and walls counted as people. Judged on ground truth: contacts while
-the robot moves (goal 0); the least body-to-body clearance while it moves (goal >= 0.25 m) and
-the 5th percentile of each encounter's; the time lost per encounter (median, p95: the
-collision monitor's withheld share of the commanded speed, integrated over the encounter);
-patrol success (every pot inspected and read right, as ``patrol.generated`` judges; goal
->= 0.98); and each patrol's robot time beside the same world's without walkers.
+the robot moves under its own drive (goal 0; ``contacts_standing_or_moving`` counts every touch,
+a walker who does not yield walking into a robot standing still included); the least
+body-to-body clearance while it moves (goal >= 0.25 m) and the 5th percentile of each
+encounter's; the time lost per encounter (median, p95: the collision monitor's withheld share of
+the commanded speed, integrated over the encounter); patrol success (every pot inspected and
+read right, as ``patrol.generated`` judges; goal >= 0.98); and each patrol's robot time beside
+the same world's without walkers.
 """
 from __future__ import annotations
 
@@ -91,7 +93,8 @@ def _patrol(world: World, config: LupinConfig) -> tuple[dict, PeopleLog]:
         run = start_sim_patrol(world, mission_from_world(world), config, Path(tmp) / "report.json", time.perf_counter)
         monitor = run.robot.monitor
         people = PeopleLog(run.sim.sim, config.arm.kinematics,
-                           lambda: 0.0 if monitor.verdict.action == NONE else 1.0 - monitor.verdict.scale).attach()
+                           lambda: 0.0 if monitor.verdict.action == NONE else 1.0 - monitor.verdict.scale,
+                           run.robot.base.driving).attach()
         try:
             while not run.done:
                 run.step()
@@ -117,7 +120,7 @@ def _pct(values: list[float], q: float) -> float | None:
 def people(config: LupinConfig) -> Sample:
     wanted = _wanted()
     met, robot_time, empty_time, failed = [], [], [], []
-    contacts = patrols = correct = pots = 0
+    contacts = touched = patrols = correct = pots = 0
     least = math.inf
     for seed in range(1, MAX_WORLDS + 1):
         if len(met) >= wanted:
@@ -128,6 +131,7 @@ def people(config: LupinConfig) -> Sample:
         met += log.encounters
         least = min(least, log.clearance)
         contacts += len(log.moving_contacts)
+        touched += len(log.contacts.onsets)
         right = correct_pots(world, doc)
         correct, pots = correct + right, pots + len(world.pots)
         if right < len(world.pots) or doc["outcome"] != "completed":
@@ -140,7 +144,7 @@ def people(config: LupinConfig) -> Sample:
     return Sample([], {
         "encounters": len(met), "encounters_wanted": wanted, "patrols": patrols, "walkers_per_world": WALKERS,
         "not_yielding_per_world": sum(not w.yields for w in generate_world(ROWS, PER_ROW, 1, bays=BAYS, walkers=WALKERS).walkers),
-        "contacts_while_moving": contacts,
+        "contacts_while_moving": contacts, "contacts_standing_or_moving": touched,
         "min_clearance_while_moving_m": None if math.isinf(least) else round(float(least), 3),
         "clearance_p5_m": _pct(nearest, 5), "encounters_met_moving": len(nearest),
         "lost_per_encounter_median_s": _pct(lost, 50), "lost_per_encounter_p95_s": _pct(lost, 95),

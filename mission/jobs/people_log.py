@@ -9,8 +9,10 @@ links from the pan axis through elbow and wrist to the wrist camera, seen from a
 thickened by ``ARM_RADIUS``: reaching out at ``inspect`` it passes the footprint), to the
 walker's legs, cart or crouching block (``sim.walkers.footprint_gap``). The spec judges only
 the moments the robot moves (true base speed >= ``MOVING_SPEED`` or turn rate >= ``MOVING_TURN``
-over the last ``SPEED_WINDOW``): a walker that walks into a robot standing still is not the
-robot's doing. A contact is an onset of a walker geom touching the chassis (``ContactLog``),
+over the last ``SPEED_WINDOW``) under its own drive (``driving``: its base's wheel
+reference non-zero within the last ``COAST``): a walker that walks into a robot standing still is
+not the robot's doing, nor is a cart pusher who walks on and shoves it along the floor (by truth
+alone a shoved robot "moved", and safety.people counted the carts' shoves as the robot's). A contact is an onset of a walker geom touching the chassis (``ContactLog``),
 counted when the robot moved at its onset. An encounter is a stretch of a walker within
 ``NEAR`` (body to body, moving or not), closed once it has stayed beyond for ``GAP`` seconds;
 with ``withheld`` (the collision monitor's withheld share of the speed, 0..1) each encounter
@@ -38,6 +40,9 @@ MOVING_SPEED, MOVING_TURN = 0.05, 0.1
 SPEED_WINDOW = 0.1
 """Speeds are taken over this much sim time, s (ten 10 ms samples: a chassis' contact jitter
 between two samples is not motion)."""
+COAST = 0.5
+"""A robot whose wheels were told to turn this recently still moves of its own accord, s: the
+base brakes from its crawl near people within a few of its 10 Hz ticks."""
 ARM_RADIUS = 0.03
 """Half the arm links' width seen from above, m (robot model: the gripper servo 0.036 m wide,
 rounded up)."""
@@ -62,8 +67,9 @@ def arm_points(q, k: KinematicsConfig) -> np.ndarray:
 
 class PeopleLog:
     def __init__(self, sim: SimRobot, kinematics: KinematicsConfig = KinematicsConfig(),
-                 withheld: Callable[[], float] | None = None):
-        self.sim, self.kinematics, self.withheld = sim, kinematics, withheld
+                 withheld: Callable[[], float] | None = None, driving: Callable[[], bool] | None = None):
+        self.sim, self.kinematics, self.withheld, self.driving = sim, kinematics, withheld, driving
+        self._drove = -math.inf
         self.contacts = ContactLog(lambda: [n for n in sim.touching() if n.startswith("walker_")])
         self.moving_contacts: list[tuple[float, str]] = []
         """(sim time, geom) of each contact that began while the robot moved."""
@@ -111,7 +117,9 @@ class PeopleLog:
         while self._trail[0][0] < t - SPEED_WINDOW - 1e-9:
             self._trail.popleft()
         t0, x0, y0, yaw0 = self._trail[0]
-        if t - t0 < SPEED_WINDOW / 2:
+        if self.driving is None or self.driving():
+            self._drove = t
+        if t - t0 < SPEED_WINDOW / 2 or t - self._drove > COAST:
             return False
         turn = abs(math.atan2(math.sin(yaw - yaw0), math.cos(yaw - yaw0)))
         return math.hypot(x - x0, y - y0) >= MOVING_SPEED * (t - t0) or turn >= MOVING_TURN * (t - t0)

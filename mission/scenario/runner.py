@@ -67,7 +67,7 @@ def run_scenario(scenario: Scenario, directory: Path, wall_now: Callable[[], flo
     run = start_sim_patrol(scenario.world, scenario.mission, scenario.config, Path(directory) / "report.json", wall_now,
                            scenario.events)
     log = MotionLog(run.sim.sim, run.robot.base, run.nav.localisation).attach()
-    people = PeopleLog(run.sim.sim, scenario.config.arm.kinematics).attach()
+    people = PeopleLog(run.sim.sim, scenario.config.arm.kinematics, driving=run.robot.base.driving).attach()
     doc = run_to_end(run, limit=scenario.expect.max_sim_time)
     end, t0, fired = run.robot.scheduler.clock.now(), run.report.t0, run.events.fired
     presses = estop_figures(log, scenario.events, fired, end)

@@ -29,12 +29,12 @@ class _Carry:
         self.sim.place(self.x0 + self.speed * min(t, self.until), 1.0, 0.0)
 
 
-def _sim(walker: dict, x0: float, speed: float, until: float) -> tuple[SimRobot, PeopleLog]:
+def _sim(walker: dict, x0: float, speed: float, until: float, driving=None) -> tuple[SimRobot, PeopleLog]:
     w = Walker(**{"id": "W1", **walker})
     world = World(name="judge", floor=Floor(x=8.0, y=2.0), spawn=Pose2(x=x0, y=1.0), pots=[], walkers=[w])
     sim = SimRobot(world, SimConfig(), HwConfig())
     sim.engine.attach(_Carry(sim, x0, speed, until))
-    return sim, PeopleLog(sim).attach()
+    return sim, PeopleLog(sim, driving=driving).attach()
 
 
 def test_a_walker_walking_into_a_robot_standing_still_is_not_the_robots_doing():
@@ -59,6 +59,18 @@ def test_a_robot_driving_into_a_worker_is_a_contact_while_moving():
     sim.engine.advance_to(6.0)
     assert log.moving_contacts and log.moving_contacts[0][1].startswith("walker_W1_body")
     assert log.clearance < 0 and len(log.encounters) == 1
+
+
+def test_a_robot_carried_while_its_wheels_are_told_to_stand_is_not_moving():
+    """A cart pusher who walks on shoves the robot along: it moves, but not of its own drive."""
+    told = {"turn": True}
+    sim, log = _sim({"path": [[4.0, 1.0]], "posture": "crouching"}, 1.0, 0.5, 10.0, lambda: told["turn"])
+    sim.engine.advance_to(2.0)                      # driving: judged
+    assert log.clearance < math.inf and not log.moving_contacts
+    told["turn"] = False
+    sim.engine.advance_to(6.0)                      # carried into the worker with its wheels told to stand
+    assert log.contacts.onsets and log.moving_contacts == []
+    assert log.clearance > 0.5                      # the last judged moment was 0.5 s after it stopped driving
 
 
 def test_the_arm_reaching_out_is_part_of_the_body():
