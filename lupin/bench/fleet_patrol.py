@@ -23,8 +23,8 @@ dispatcher (``fleet.fleet_patrol``) following them to the end. Figures per robot
 
 ``fleet.handover``: the 3-robot run again with r2 dying a third of the way through its patrol
 (``Death``: its link closes, so its liveliness token goes, and it stands where it is, as a robot
-whose computer died): pots right (goal all), pots handed over, and its makespan against the
-undisturbed 3-robot run (shared with ``fleet.patrol`` in one ``lupin bench`` process);
+whose computer died, an obstacle where it stands: a contact with it counts): pots right (goal
+all), pots handed over, and its makespan against the undisturbed 3-robot run (shared with ``fleet.patrol`` in one ``lupin bench`` process);
 ``fleet.handover_small`` the same on the small greenhouse.
 
 Every run is counted; a run that did not end within ``DEADLINE_S`` of wall time says so
