@@ -142,6 +142,12 @@ class AisleLockServer:
         if self.table.keep_only(set(self.roster.robots())):
             self._publish()
 
+    def free(self, robot: str) -> None:
+        """Free ``robot``'s locks now: the dispatcher took its patrol off it (an e-stop held too
+        long, a low battery), so it asks for nothing more and must not keep the others out."""
+        if self.table.keep_only(set(self.roster.robots()) - {robot}):
+            self._publish()
+
     def _publish(self) -> None:
         self.session.put(AISLES, dumps({str(a): r for a, r in self.table.held().items()}))
 

@@ -6,7 +6,9 @@ and talks to the robots through their ordinary link only: ``mission_start`` with
 part as an ordinary patrol (``fleet.assign``: its pots in its own map frame, the mission's name
 shared, so each robot's report and history rows are its own), their telemetry to follow them,
 and the ``report`` query for each robot's report.json. It hosts the aisle locks' arbiter
-(``fleet.aisle_locks.AisleLockServer``) for as long as it runs.
+(``fleet.aisle_locks.AisleLockServer``) for as long as it runs, and sends each robot the aisles'
+outlines with its patrol (found on the split's map, in the robot's own frame), so the robot asks
+for an aisle before it enters (``mission.patrol.aisle_gate``).
 
 Following a robot: a patrol has ended when the report the robot answers has an outcome (its
 telemetry saying ``done`` only asks sooner). While it runs, its report is fetched whenever its
@@ -27,6 +29,7 @@ when no robot is on patrol and nothing waits to be sent.
 from __future__ import annotations
 
 import json
+import math
 import time
 from dataclasses import dataclass, field
 from typing import Callable, Mapping, Sequence
@@ -35,6 +38,7 @@ import numpy as np
 import zenoh
 
 from fleet.aisle_locks import AisleLockServer
+from fleet.aisles import find_aisles, outlines
 from fleet.assign import Pose, assign
 from fleet.fleet_report import RobotRun, write_fleet_report
 from hw.atomic_file import write_atomic
@@ -137,6 +141,9 @@ class Dispatcher:
         self.members: dict[str, Member] = {}
         self.handovers: list[Handover] = []
         self.pots = {p.id: p for p in mission.pots}
+        pots = np.array([(p.x, p.y, p.facing) for p in mission.pots])
+        # each aisle's outline in the fleet's frame, numbered as fleet.assign's (the same map and pots)
+        self.aisles = outlines(find_aisles(occupancy, pots)) if occupancy is not None else {}
 
     # --- the start ---------------------------------------------------------------------------
     def wait_for_robots(self, wanted: Sequence[str] | None, within: float) -> list[str]:
@@ -175,7 +182,8 @@ class Dispatcher:
     def _send(self, m: Member, part: Mission) -> None:
         data = part.model_dump(mode="json")
         data["pots"] = [p.model_dump(mode="json", exclude_none=True) for p in part.pots]
-        error = m.client.send("mission_start", mission=data)
+        aisles = {str(k): _in_dock_frame(poly, m.dock) for k, poly in self.aisles.items()}
+        error = m.client.send("mission_start", mission=data, **({"aisles": aisles} if aisles else {}))
         if error is not None and " within " not in error:
             raise DispatchError(f"{m.name} refused its patrol: {error}")
         if error is not None:  # queued on a busy runtime (its first patrol compiles the planner's kernels): it comes
@@ -254,6 +262,7 @@ class Dispatcher:
                 if m.current is not None and m.current.get("outcome") is not None:
                     break
                 time.sleep(POLL)
+            self.locks.free(m.name)  # its aisles, held while it stood stopped (a dead one's go with its token)
         if m.current is not None:
             m.reports.append(m.current)
             m.current = None
@@ -306,6 +315,13 @@ class Dispatcher:
             m.client.close()
         self.locks.close()
         self.roster.close()
+
+
+def _in_dock_frame(polygon: np.ndarray, dock: Pose) -> list[list[float]]:
+    """A fleet-frame outline as the robot docked at ``dock`` maps it (its dock the origin)."""
+    c, s = math.cos(dock[2]), math.sin(dock[2])
+    d = polygon - np.asarray(dock[:2])
+    return np.round(np.c_[c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1]], 3).tolist()
 
 
 def report_name(k: int) -> str:
