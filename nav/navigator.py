@@ -242,7 +242,6 @@ class Navigator(Waits):
             self._finish(State.CANCELED, "e-stop engaged", now)
             return
         dt, self._last_control = now - self._last_control, now
-        self.people.observe(now)
         if self._blind(now):
             self._deadline += dt  # a pause, not time spent on the goal
             self._checkpoint = None

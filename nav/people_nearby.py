@@ -7,15 +7,14 @@ to tell a goal a person stands on and a robot a walker is coming at. When the ro
 keep-out it does not just stand there: ``evade`` steps it out at ``EVADE_SPEED`` (the issue's
 most within 1.0 m of a person), sideways to a walker's way or away from someone standing, along
 the first direction of a fan the local costmap without people keeps free, never towards them nor
-towards anyone else about (``OTHERS_NEAR``), nor into a lane someone else walked lately
-(``LANE_MEMORY``: a worker pacing a cross aisle, who paused at its end and will come back):
-stepping back from a grower who stopped for it, the robot once backed at 0.15 m/s into the cross
-aisle a cart pusher was walking down, and was hit.
+towards anyone else about (``OTHERS_NEAR``): stepping back from a grower who stopped for it, the
+robot once backed at 0.15 m/s into the cross aisle a cart pusher was walking down, and was hit.
+(Nor into a lane someone else walked lately, tried at stop 38: remembering 30 s of lanes left a
+robot among two pacing workers no direction to step, and it stood for hours.)
 """
 from __future__ import annotations
 
 import math
-from collections import deque
 from typing import Callable
 
 import numpy as np
@@ -39,16 +38,6 @@ EVADE_LOOK = 0.3
 #: is someone the step must not head towards, m: four seconds of a cart pusher who paused at the
 #: end of their round and turns back (``lane_time`` at 0.7 m/s, a brisk cart).
 OTHERS_NEAR = 3.0
-#: How long where someone walked is kept as their lane, s: a worker pacing a 5 m cross aisle at
-#: a slow 0.5 m/s is back within 20 s.
-LANE_MEMORY = 30.0
-#: Lane points are kept this far apart, m.
-LANE_SPACING = 0.2
-#: A step must not end nearer a lane than this, centre to centre, m: a cart's half width (0.35 m),
-#: the robot's radius and a few centimetres.
-LANE_HALF_WIDTH = 0.6
-#: How far a step out of the way looks ahead for lanes, m.
-LANE_LOOK = 0.4
 #: A person faster than this is walking somewhere: step sideways to their way, m/s.
 WALKING = 0.2
 #: The fan of directions tried round "away from them" for someone not walking (or no side of a
@@ -61,27 +50,6 @@ class PeopleNearby:
         self.layer = config.costmap.global_costmap.people
         self.robot_radius = config.costmap.robot_radius
         self.people, self.map_to_odom = people, map_to_odom
-        self._lanes: dict[int, deque[tuple[float, float, float]]] = {}
-
-    def observe(self, now: float) -> None:
-        """Remember where each person counted walked for ``LANE_MEMORY`` seconds (odom frame)."""
-        for p in self.counted():
-            if math.hypot(p.vx, p.vy) <= WALKING:
-                continue
-            lane = self._lanes.setdefault(p.id, deque())
-            if not lane or math.hypot(p.x - lane[-1][1], p.y - lane[-1][2]) >= LANE_SPACING:
-                lane.append((now, p.x, p.y))
-        for k in list(self._lanes):
-            lane = self._lanes[k]
-            while lane and now - lane[0][0] > LANE_MEMORY:
-                lane.popleft()
-            if not lane:
-                del self._lanes[k]
-
-    def _walked(self, but: int) -> np.ndarray:
-        """(N, 2) the points of every lane but person ``but``'s, odom frame."""
-        pts = [(x, y) for k, lane in self._lanes.items() if k != but for _, x, y in lane]
-        return np.array(pts, dtype=float).reshape(-1, 2)
 
     def counted(self) -> list[Person]:
         """The tracker's people the person layer counts."""
@@ -148,10 +116,9 @@ class PeopleNearby:
         away /= max(float(np.hypot(*away)), 1e-9)
         v = self.layer.step_speed if gap > self.layer.wait_clearance else NEAR_SPEED
         others = self._others(here, [q for q in people if q is not p])
-        lanes = self._walked(p.id)
         u = self._out_of_lane(p, here, grid, self.keep_out(p, clearance)) if math.hypot(p.vx, p.vy) > WALKING else None
-        if u is None or _towards(u, others) or _into_lane(here, u, lanes):
-            u = self._fan(away, here, grid, others, lanes)
+        if u is None or _towards(u, others):
+            u = self._fan(away, here, grid, others)
         if u is None:
             return ZERO_TWIST
         c, s = math.cos(odom.yaw), math.sin(odom.yaw)
@@ -168,15 +135,13 @@ class PeopleNearby:
         need = keep_out + TOUCH - abs(lateral)
         return side if _free_run(here, side, need, grid) >= need - 1e-9 else None
 
-    def _fan(self, away: np.ndarray, here: np.ndarray, grid: CostGrid, others: np.ndarray,
-             lanes: np.ndarray) -> np.ndarray | None:
+    def _fan(self, away: np.ndarray, here: np.ndarray, grid: CostGrid, others: np.ndarray) -> np.ndarray | None:
         """The first direction of the fan round ``away`` free for ``EVADE_LOOK``, never towards
-        them nor towards ``others``, nor into ``lanes``."""
+        them nor towards ``others``."""
         a0 = math.atan2(away[1], away[0])
         for da in EVADE_FAN:
             u = np.array([math.cos(a0 + da), math.sin(a0 + da)])
-            if (u @ away >= -0.1 and not _towards(u, others) and not _into_lane(here, u, lanes)
-                    and _free_run(here, u, EVADE_LOOK, grid) >= EVADE_LOOK):
+            if u @ away >= -0.1 and not _towards(u, others) and _free_run(here, u, EVADE_LOOK, grid) >= EVADE_LOOK:
                 return u
         return None
 
@@ -209,17 +174,6 @@ def _free_run(here: np.ndarray, u: np.ndarray, length: float, grid: CostGrid) ->
 def _towards(u: np.ndarray, others: np.ndarray) -> bool:
     """Does the direction ``u`` head towards any of ``others`` (unit vectors from them to the robot)?"""
     return bool(len(others)) and bool(np.any(others @ u < -0.1))
-
-
-def _into_lane(here: np.ndarray, u: np.ndarray, lanes: np.ndarray) -> bool:
-    """Would a step along ``u`` end within ``LANE_HALF_WIDTH`` of a lane point, nearer than the
-    robot is now (stepping out of a lane is always let be)?"""
-    if not len(lanes):
-        return False
-    end = here + LANE_LOOK * u
-    before = np.min(np.hypot(*(lanes - here).T))
-    after = np.min(np.hypot(*(lanes - end).T))
-    return bool(after < LANE_HALF_WIDTH and after < before)
 
 
 def nearest_on_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:

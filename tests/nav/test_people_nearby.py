@@ -51,17 +51,3 @@ def test_a_step_back_from_one_person_never_heads_towards_another():
     assert np.hypot(both.vx, both.vy) > 0.1               # still steps away from the grower
     assert both.vx > -0.1 * np.hypot(both.vx, both.vy) - 1e-9  # but not towards the cart
 
-
-def test_a_step_out_of_the_way_does_not_end_in_a_lane_someone_walked_lately():
-    grower = Person(1, 3.5, 3.0, 0.0, 0.0, 0.25, 0.9)
-    nearby = PeopleNearby(CFG, lambda: people, Pose2D)
-    people = [grower, Person(2, 2.4, 0.5, 0.0, 0.8, 0.3, 0.9)]  # walks north up x = 2.4, 0.6 m west
-    for k in range(40):                                       # seen walking up to y = 6.0, then gone
-        people[1] = Person(2, 2.4, 0.5 + 0.2 * k, 0.0, 0.8, 0.3, 0.9)
-        nearby.observe(0.25 * k)
-    people = [grower]
-    step = nearby.evade(Pose2D(3.0, 3.0, 0.0), _open(), 1.0)
-    assert np.hypot(step.vx, step.vy) > 0.1 and step.vx > -0.05   # away from the grower, not west into the lane
-    nearby.observe(0.25 * 40 + 31.0)                              # half a minute later the lane is forgotten
-    again = nearby.evade(Pose2D(3.0, 3.0, 0.0), _open(), 1.0)
-    assert again.vx < -0.1
