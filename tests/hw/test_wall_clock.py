@@ -31,16 +31,16 @@ def test_wall_pace_holds_a_clock_back_to_wall_time(monkeypatch):
 
 @pytest.mark.slow
 def test_a_realtime_sim_waits_on_the_wall_before_each_step_and_runs_the_same_trajectory(monkeypatch):
-    from sim import backend
+    from sim import scene
     from tests.fixtures import assemble, open_floor
 
     waits = []
 
-    class Recording(backend.WallPace):
+    class Recording(scene.WallPace):
         def wait(self, t):
             waits.append(t)  # the pacing itself is the test above; here: is it asked, in order?
 
-    monkeypatch.setattr(backend, "WallPace", Recording)
+    monkeypatch.setattr(scene, "WallPace", Recording)  # the scene paces the engine all robots share
 
     def drive(**env):
         sim, robot = assemble(open_floor(), **env)
