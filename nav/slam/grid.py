@@ -38,12 +38,11 @@ miss each scan against a hit only while the robot stood by: on a generated two-b
 (``generate_world(1, 8, 1, bays=2)``, a 22 m south wall 0.5 m from the aisle) the map kept 0.88
 of its walls within 10 cm, and drawn at the sim's true poses 1.00; a beam that stops clearing
 ``SURFACE_BAND / sin(incidence)`` before its end keeps it at 1.00 and draws every metre of wall
-within 1.5 cm (the judge's floor: a face's end station reads the wall across the corner). The
-incidence is the angle between the beam and the surface through the return's neighbours in the
-scan, the smaller of the two sides: a return on an edge, its neighbour on a wall behind, counts
-as grazing, which only clears less. It is capped at ``SHADOW_CAP`` so no beam leaves a long
-stretch uncleared; a cell in front of a surface is still cleared by the beams that meet the
-surface more squarely.
+within 1.5 cm. The incidence is the angle between the beam and the surface through the
+return's neighbours in the scan, the smaller of the two sides: a return on an edge, its
+neighbour on a wall behind, counts as grazing, which only clears less. It is capped at
+``SHADOW_CAP`` so no beam leaves a long stretch uncleared; a cell in front of a surface is
+still cleared by the beams that meet the surface more squarely.
 """
 from __future__ import annotations
 
@@ -62,16 +61,12 @@ L_MIN, L_MAX = -2.0, 3.5
 
 GROW_STEP = 64
 """Cells a growing side is extended by at a time (3.2 m at 0.05 m)."""
-SURFACE_BAND = 0.025
+SURFACE_BAND = 0.05
 """A beam clears no cell nearer than this to the surface it hit, m, measured square to the
-surface: half a cell, 2.5 sigma of the C1's range noise. Wider keeps what a drifted pass drew in
-front of a wall: at one cell, the 180-pot survey's scans replayed drew the north wall's last 6 m
-a cell into the floor (worst metre 0.06 m, against 0.02 clearing to the end and 0.0275 at half a
-cell); the 22 m aisle's wall is kept whole at either."""
+surface (one cell: views of a wall disagree by 1-3 cm; see the module docstring)."""
 SHADOW_CAP = 1.5
 """... and stops clearing at most this far before its end, m (a wall at 12 m, the C1's range,
-seen from 0.5 m off it is met at 0.04 rad: 0.6 m; a return on an edge, its neighbour on a wall
-behind, would have no bound)."""
+seen from 0.5 m off it is met at 0.04 rad: 1.2 m for a 5 cm band)."""
 
 
 @njit(cache=True)
