@@ -6,11 +6,7 @@ robot's radius) reaching along their next ``predict_time`` seconds of walking, i
 to tell a goal a person stands on and a robot a walker is coming at. When the robot stands in a
 keep-out it does not just stand there: ``evade`` steps it out at ``EVADE_SPEED`` (the issue's
 most within 1.0 m of a person), sideways to a walker's way or away from someone standing, along
-the first direction of a fan the local costmap without people keeps free, never towards them nor
-towards anyone else about (``OTHERS_NEAR``): stepping back from a grower who stopped for it, the
-robot once backed at 0.15 m/s into the cross aisle a cart pusher was walking down, and was hit.
-(Nor into a lane someone else walked lately, tried at stop 38: remembering 30 s of lanes left a
-robot among two pacing workers no direction to step, and it stood for hours.)
+the first direction of a fan the local costmap without people keeps free, never towards them.
 """
 from __future__ import annotations
 
@@ -34,10 +30,6 @@ NEAR_SPEED = 0.15
 TOUCH = 0.05
 #: How far ahead a direction to step out along must be free of pots and walls, m.
 EVADE_LOOK = 0.3
-#: Someone else whose walk (their next ``lane_time`` seconds) passes within this of the robot
-#: is someone the step must not head towards, m: four seconds of a cart pusher who paused at the
-#: end of their round and turns back (``lane_time`` at 0.7 m/s, a brisk cart).
-OTHERS_NEAR = 3.0
 #: A person faster than this is walking somewhere: step sideways to their way, m/s.
 WALKING = 0.2
 #: The fan of directions tried round "away from them" for someone not walking (or no side of a
@@ -115,10 +107,9 @@ class PeopleNearby:
         gap = float(np.hypot(*away)) - p.radius - self.robot_radius
         away /= max(float(np.hypot(*away)), 1e-9)
         v = self.layer.step_speed if gap > self.layer.wait_clearance else NEAR_SPEED
-        others = self._others(here, [q for q in people if q is not p])
         u = self._out_of_lane(p, here, grid, self.keep_out(p, clearance)) if math.hypot(p.vx, p.vy) > WALKING else None
-        if u is None or _towards(u, others):
-            u = self._fan(away, here, grid, others)
+        if u is None:
+            u = self._fan(away, here, grid)
         if u is None:
             return ZERO_TWIST
         c, s = math.cos(odom.yaw), math.sin(odom.yaw)
@@ -135,26 +126,14 @@ class PeopleNearby:
         need = keep_out + TOUCH - abs(lateral)
         return side if _free_run(here, side, need, grid) >= need - 1e-9 else None
 
-    def _fan(self, away: np.ndarray, here: np.ndarray, grid: CostGrid, others: np.ndarray) -> np.ndarray | None:
-        """The first direction of the fan round ``away`` free for ``EVADE_LOOK``, never towards
-        them nor towards ``others``."""
+    def _fan(self, away: np.ndarray, here: np.ndarray, grid: CostGrid) -> np.ndarray | None:
+        """The first direction of the fan round ``away`` free for ``EVADE_LOOK``, never towards them."""
         a0 = math.atan2(away[1], away[0])
         for da in EVADE_FAN:
             u = np.array([math.cos(a0 + da), math.sin(a0 + da)])
-            if u @ away >= -0.1 and not _towards(u, others) and _free_run(here, u, EVADE_LOOK, grid) >= EVADE_LOOK:
+            if u @ away >= -0.1 and _free_run(here, u, EVADE_LOOK, grid) >= EVADE_LOOK:
                 return u
         return None
-
-    def _others(self, here: np.ndarray, people: list[Person]) -> np.ndarray:
-        """Unit vectors from the nearest point of each other person's walk (``lane_time``) to
-        the robot, for those within ``OTHERS_NEAR``."""
-        if not people:
-            return np.zeros((0, 2))
-        now, then = self._segments(people, self.layer.lane_time)
-        away = np.array([here - nearest_on_segment(here, a, b) for a, b in zip(now, then)])
-        d = np.hypot(away[:, 0], away[:, 1])
-        near = (d < OTHERS_NEAR) & (d > 1e-9)
-        return away[near] / d[near, None]
 
     def _segments(self, people: list[Person], reach: float | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Each person now and ``reach`` seconds on (``predict_time`` when None), odom frame."""
@@ -171,19 +150,9 @@ def _free_run(here: np.ndarray, u: np.ndarray, length: float, grid: CostGrid) ->
     return float(steps[blocked[0]] - 0.05) if len(blocked) else float(steps[-1])
 
 
-def _towards(u: np.ndarray, others: np.ndarray) -> bool:
-    """Does the direction ``u`` head towards any of ``others`` (unit vectors from them to the robot)?"""
-    return bool(len(others)) and bool(np.any(others @ u < -0.1))
-
-
-def nearest_on_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The point of the segment ``a``-``b`` nearest ``p``."""
+def to_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
+    """Distance from ``p`` to the segment ``a``-``b``."""
     ab = b - a
     n = float(ab @ ab)
     t = 0.0 if n < 1e-12 else min(max(float((p - a) @ ab) / n, 0.0), 1.0)
-    return a + t * ab
-
-
-def to_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
-    """Distance from ``p`` to the segment ``a``-``b``."""
-    return float(np.hypot(*(p - nearest_on_segment(p, a, b))))
+    return float(np.hypot(*(p - a - t * ab)))

@@ -95,8 +95,8 @@ REMEMBER = 3.0
 worker cut by the map where they touch a wall, or out of view behind a pot for a few steps."""
 
 REBORN = 0.8
-"""A track born this near where a person's was lost (plus its own radius) is theirs, m: the gate
-of the tracker (``PeopleConfig.gate``), a step and a half."""
+"""A track born this near where a person's was lost is theirs, m: the gate of the tracker
+(``PeopleConfig.gate``), a step and a half."""
 
 FAULT_LOG_GAP = 60.0
 """A failing tracker is logged at most this often, s (with its traceback)."""
@@ -123,8 +123,6 @@ class People:
         self.inherited: set[int] = set()
         """Ids of the tracks born where a person's track was just lost (``_inherit``)."""
         self._gone: list[tuple[float, float, float]] = []
-        self._born: dict[int, float] = {}
-        """Per track: the stamp of the scan it was first seen on."""
         self.arcs: dict[int, deque[bool]] = {}
         """Per track: whether it was seen as a leg arc, on each of its last ``LEG_WINDOW`` scans."""
         self._origin: dict[int, tuple[float, float]] = {}
@@ -219,22 +217,16 @@ class People:
 
     def _inherit(self, stamp: float, shown: dict[int, tuple[float, float]]) -> None:
         """A person's track lost (hidden a moment, or cut by the map at a wall) leaves where it
-        was for ``REMEMBER`` seconds; a young track (born up to ``REMEMBER`` before the loss, or
-        after it) within ``REBORN`` of that, its own radius added, is them again, a person at
-        once, not after another half metre of walking (people-crossing-no-yield: the grower
+        was for ``REMEMBER`` seconds; a track born within ``REBORN`` of that is them again, a person
+        at once, not after another half metre of walking (people-crossing-no-yield: the grower
         pausing by the wall at the end of each crossing came back as a new track each time, and
-        the robot drove up to them while it had still to be shown). Young before the loss too: a
-        cart pusher turning at the end of their round swings the cart round to the other side
-        of them, the tracker starts a track on it a second before it lets the old one go, a
-        metre off, and the robot once backed into the cart while that track had still to walk."""
+        the robot drove up to them while it had still to be shown)."""
         ids = {p.id for p in self.tracks}
-        self._born = {p.id: self._born.get(p.id, stamp) for p in self.tracks}
         self._gone = [g for g in self._gone if stamp - g[2] <= REMEMBER]
         self._gone += [(x, y, stamp) for k, (x, y) in shown.items() if k not in ids]
-        self.inherited = (ids & self.inherited) | {
-            p.id for p in self.tracks if p.id not in shown and any(
-                self._born[p.id] >= t - REMEMBER and np.hypot(p.x - x, p.y - y) <= REBORN + p.radius
-                for x, y, t in self._gone)}
+        born = [p for p in self.tracks if p.id not in self._last]
+        self.inherited = (ids & self.inherited) | {p.id for p in born if any(np.hypot(p.x - x, p.y - y) <= REBORN
+                                                                             for x, y, _ in self._gone)}
 
     def _count_legs(self, shapes: LegShapes) -> None:
         """Count, per track, the scans on which it was seen as a pair of legs or a leg arc (the

@@ -36,18 +36,3 @@ def test_with_room_on_its_own_side_it_steps_there():
     walker = Person(1, 2.6, 0.0, 0.0, 1.0, 0.35, 0.9)
     step = _step(walker, CostGrid.filled(120, 120, 0.05, 0.0, 0.0))
     assert step[0] > 0.2 and abs(step[1]) < 1e-9  # east, away from their way
-
-
-def _open() -> CostGrid:
-    return CostGrid.filled(120, 120, 0.05, 0.0, 0.0)
-
-
-def test_a_step_back_from_one_person_never_heads_towards_another():
-    grower = Person(1, 3.5, 3.0, 0.0, 0.0, 0.25, 0.9)   # stopped for the robot, 0.5 m east
-    cart = Person(2, 1.2, 3.0, 0.0, 0.0, 0.4, 0.9)      # paused 1.8 m west, straight behind it
-    alone = PeopleNearby(CFG, lambda: [grower], Pose2D).evade(Pose2D(3.0, 3.0, 0.0), _open(), 1.0)
-    both = PeopleNearby(CFG, lambda: [grower, cart], Pose2D).evade(Pose2D(3.0, 3.0, 0.0), _open(), 1.0)
-    assert alone.vx < -0.1 and abs(alone.vy) < 1e-9       # alone: straight back, west
-    assert np.hypot(both.vx, both.vy) > 0.1               # still steps away from the grower
-    assert both.vx > -0.1 * np.hypot(both.vx, both.vy) - 1e-9  # but not towards the cart
-
