@@ -26,23 +26,6 @@ every beam, ``np.unique`` the cells) cost 13 ms for a scan reaching 6 m on avera
 under 1 ms here; re-rendering thousands of kept scans after a loop closure is what it is for
 (``tests/nav/test_slam_parts.py`` holds the numpy version as the reference it must equal). An
 update may be confined to a window of cells, so a correction re-renders only what it moved.
-
-A beam clears nothing within ``SURFACE_BAND`` in front of the surface it hit (issue 30). A wall
-seen along its length is hit at a grazing angle: the beam runs nearly parallel to the face over
-its last metre, and a beam 10 m down a wall the robot drives 0.5 m from meets it at 0.05 rad,
-so it crosses the face's row of cells ``band / sin(0.05)`` = 20 x band before it ends, for any
-band of disagreement between two views. Views of one wall disagree by a centimetre or two (the
-C1's 1 cm noise, a heading 2 mrad off drawing a wall 10 m away 2 cm off, a lateral drift), so the
-far grazing beams of every scan cleared the face cells the near, square-on beams had hit, a
-miss each scan against a hit only while the robot stood by: on a generated two-bay greenhouse
-(``generate_world(1, 8, 1, bays=2)``, a 22 m south wall 0.5 m from the aisle) the map kept 0.88
-of its walls within 10 cm, and drawn at the sim's true poses 1.00; a beam that stops clearing
-``SURFACE_BAND / sin(incidence)`` before its end keeps it at 1.00 and draws every metre of wall
-within 1.5 cm. The incidence is the angle between the beam and the surface through the
-return's neighbours in the scan, the smaller of the two sides: a return on an edge, its
-neighbour on a wall behind, counts as grazing, which only clears less. It is capped at
-``SHADOW_CAP`` so no beam leaves a long stretch uncleared; a cell in front of a surface is
-still cleared by the beams that meet the surface more squarely.
 """
 from __future__ import annotations
 
@@ -61,33 +44,6 @@ L_MIN, L_MAX = -2.0, 3.5
 
 GROW_STEP = 64
 """Cells a growing side is extended by at a time (3.2 m at 0.05 m)."""
-SURFACE_BAND = 0.05
-"""A beam clears no cell nearer than this to the surface it hit, m, measured square to the
-surface (one cell: views of a wall disagree by 1-3 cm; see the module docstring)."""
-SHADOW_CAP = 1.5
-"""... and stops clearing at most this far before its end, m (a wall at 12 m, the C1's range,
-seen from 0.5 m off it is met at 0.04 rad: 1.2 m for a 5 cm band)."""
-
-
-@njit(cache=True)
-def clear_of_surface(sx, sy, ex, ey):
-    """(N,) metres before each return (``ex``, ``ey`` (N,) in scan order, seen from (sx, sy))
-    where its beam stops clearing: ``SURFACE_BAND`` over the sine of the angle it meets the
-    surface at, the surface being the line to its neighbour in the scan on either side (the
-    more grazing of the two), capped at ``SHADOW_CAP``. A lone return meets its surface square."""
-    n = ex.shape[0]
-    out = np.empty(n)
-    for b in range(n):
-        bx, by = ex[b] - sx, ey[b] - sy
-        r = max(math.sqrt(bx * bx + by * by), 1e-9)
-        sine = 1.0
-        for o in (b - 1, b + 1):
-            tx, ty = ex[o % n] - ex[b], ey[o % n] - ey[b]
-            t = math.sqrt(tx * tx + ty * ty)
-            if t > 1e-6:
-                sine = min(sine, abs(bx * ty - by * tx) / (r * t))
-        out[b] = SURFACE_BAND / max(sine, SURFACE_BAND / SHADOW_CAP)
-    return out
 
 
 class LogOddsGrid:
@@ -175,23 +131,18 @@ class LogOddsGrid:
 @njit(cache=True)
 def _integrate(logodds, occupancy, stamp, width, ox, oy, res, sx, sy, ex, ey, scan, ix0, iy0, ix1, iy1):
     """Trace every beam from (sx, sy) to its end in half-cell steps: end cells hit, cells crossed
-    before them miss up to ``shadow`` metres before the end (``clear_of_surface``), each cell
-    once per scan (``stamp``: ``-scan`` marks a hit to come, ``scan`` a cell done), only inside
-    the window [ix0, ix1) x [iy0, iy1)."""
+    before them miss, each cell once per scan (``stamp``: ``-scan`` marks a hit to come,
+    ``scan`` a cell done), only inside the window [ix0, ix1) x [iy0, iy1)."""
     hit = -scan
-    shadow = clear_of_surface(sx, sy, ex, ey)
     for b in range(ex.shape[0]):
         ix, iy = int(math.floor((ex[b] - ox) / res)), int(math.floor((ey[b] - oy) / res))
         if ix0 <= ix < ix1 and iy0 <= iy < iy1:
             stamp[iy * width + ix] = hit
     for b in range(ex.shape[0]):
         dx, dy = ex[b] - sx, ey[b] - sy
-        length = math.sqrt(dx * dx + dy * dy)
-        steps = max(int(math.ceil(length / (0.5 * res))), 1)
+        steps = max(int(math.ceil(math.sqrt(dx * dx + dy * dy) / (0.5 * res))), 1)
         for k in range(steps):
             f = k / steps
-            if (1.0 - f) * length < shadow[b]:
-                break
             ix, iy = int(math.floor((sx + dx * f - ox) / res)), int(math.floor((sy + dy * f - oy) / res))
             if not (ix0 <= ix < ix1 and iy0 <= iy < iy1):
                 continue
