@@ -182,6 +182,10 @@ class Navigator(Waits):
         self.waiting_for = ""
         """Why the goal waits for people now ('' while it does not)."""
         self._person_blocks = self._start_blocked = False
+        self.keep_out: Callable[[CostGrid, tuple[float, float]], CostGrid] | None = None
+        """Where a drive may not go now, as a filter of the global costmap's grid from where the
+        robot stands (a fleet's aisles held by other robots, ``mission.patrol.aisle_gate``);
+        None: anywhere the costmap allows."""
 
     # -- the goal API --------------------------------------------------------------------------
 
@@ -328,7 +332,10 @@ class Navigator(Waits):
                                   max(pose.x, self.goal.x) + m, max(pose.y, self.goal.y) + m)
         self._last_attempt = now
         try:
-            self.path = self.planner.plan(self.global_costmap.grid, (pose.x, pose.y), (self.goal.x, self.goal.y))
+            grid = self.global_costmap.grid
+            if self.keep_out is not None:
+                grid = self.keep_out(grid, (pose.x, pose.y))
+            self.path = self.planner.plan(grid, (pose.x, pose.y), (self.goal.x, self.goal.y))
         except StartBlocked:
             self._start_blocked = not self._only_people_block(pose)
             self._person_blocks = not self._start_blocked

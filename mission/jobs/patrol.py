@@ -138,6 +138,7 @@ class PatrolRun:
         self.robot.scheduler.cancel("patrol.people")
         self.robot.scheduler.cancel("patrol.faults")
         self.robot.scheduler.cancel("patrol.energy")
+        self.nav.keep_out = None  # the fleet's aisles bound this patrol's drives, not the next command's
         occupancy = final_map(self.nav, self.robot.scheduler)
         directory = self.report.directory
         if occupancy is not None:

@@ -10,7 +10,12 @@ short when the ground beside is not clear); it asks again every ``RETRY`` s.
 Told to yield (its wait would close a cycle: it stands in an aisle another robot wants while it
 wants theirs), it backs out of its aisle by the nearer end (by the planner's path lengths) to
 beside its mouth, lets go of everything and asks again from there. On the way, the aisles it has left behind are let go
-(``progress``). With no arbiter in the fleet (no dispatcher, a robot alone) there is no gate at
+(``progress``), once its body is clear of them (``CLEAR``), not its centre: a robot standing at
+a pot on an aisle's edge, its centre a few cm either side of the outline, holds that aisle.
+While it drives, the planner is kept out of every aisle it does not hold (``keep_out``, the
+navigator's filter of the global costmap): a replan around a robot or a person in the way
+never takes it into another's aisle, the failure Open-RMF's users meet as a robot entering a
+locked lane (measured here: two robots crossing at their docks swapped aisles that way). With no arbiter in the fleet (no dispatcher, a robot alone) there is no gate at
 all: the patrol tree is built without one.
 """
 from __future__ import annotations
@@ -22,6 +27,7 @@ import numpy as np
 
 from mission.link.aisle_client import AisleLockClient, Answer
 from mission.patrol.aisle_outlines import NO_AISLE, AisleOutlines
+from nav.costmap.grid import LETHAL, CostGrid
 
 MOUTH = 0.6
 """How far short of an aisle a refused robot waits, m of its path: its 0.22 m radius clear of
@@ -30,6 +36,9 @@ with room for one leaving to turn out past it."""
 SIDE = 0.6
 """How far to the side of the way in a refused robot waits, m: a robot's width (0.44 m) and a
 margin from the line a robot leaving the aisle drives along."""
+CLEAR = 0.3
+"""How far the robot's centre must be from an aisle's outline to be out of it, m: its 0.22 m
+radius, and a margin for its belief of where it is against where it is."""
 RETRY = 1.0
 """Seconds between a waiting robot's requests (``fleet.aisle_locks.STALE_WAIT`` counts on it)."""
 
@@ -50,10 +59,28 @@ class AisleGate:
         self.client, self.outlines = client, outlines
         self.held: list[int] = []
         """The aisles the arbiter last granted this robot (and not let go since)."""
+        self._masks: dict[tuple, np.ndarray] = {}
 
     def want(self, path: np.ndarray) -> list[int]:
-        """Every aisle ``path`` (K, 2) crosses, the one it starts in included: one request."""
-        return self.outlines.along(path)
+        """Every aisle ``path`` (K, 2) crosses, and the ones the robot's body is in at its start:
+        one request."""
+        return list(dict.fromkeys(self.outlines.near(path[:1], CLEAR) + self.outlines.along(path)))
+
+    def keep_out(self, grid: CostGrid, here: tuple[float, float]) -> CostGrid:
+        """``grid`` with every aisle the robot does not hold lethal, save any it is in at
+        ``here`` (it must be able to leave): what the navigator plans a drive on."""
+        closed = tuple(a for a in sorted(self.outlines.polygons)
+                       if a not in self.held and a not in self.outlines.near([here], CLEAR))
+        if not closed:
+            return grid
+        key = (grid.data.shape, grid.resolution, grid.origin_x, grid.origin_y, closed)
+        if key not in self._masks:
+            if len(self._masks) > 16:  # the costmap grew, or the held aisles changed many times
+                self._masks.clear()
+            self._masks[key] = self.outlines.cells(grid.data.shape, grid.resolution, (grid.origin_x, grid.origin_y), closed)
+        data = grid.data.copy()
+        data[self._masks[key]] = LETHAL
+        return CostGrid(data, grid.resolution, grid.origin_x, grid.origin_y)
 
     def verdict(self, path: np.ndarray, want: list[int], answer: Answer | None,
                 lengths_from_here: Callable[[np.ndarray], np.ndarray]) -> Verdict:
@@ -79,9 +106,10 @@ class AisleGate:
         self.held = []
 
     def progress(self, ahead: np.ndarray) -> None:
-        """Driving, ``ahead`` (K, 2) the path left from the robot: let go of the aisles behind
-        (asking for fewer than it holds is always granted)."""
-        keep = [a for a in self.held if a in self.outlines.along(ahead)]
+        """Driving, ``ahead`` (K, 2) the path left from the robot: let go of the aisles behind,
+        ``CLEAR`` of it (asking for fewer than it holds is always granted)."""
+        near = self.outlines.near(ahead, CLEAR)
+        keep = [a for a in self.held if a in near]
         if keep != self.held:
             self.client.ask_later(keep)
             self.held = keep

@@ -167,6 +167,7 @@ class PatrolTree:
         self.lidar = LidarLoss(lambda: self.robot.monitor.untrusted_since, self.clock.now,
                                self.config.lidar_lost_after, self.config.lidar_lost_give_up,
                                armed=lambda: self.nav.readiness.active)
+        self.nav.keep_out = None if self.gate is None else self.gate.keep_out
         self.root = self._build()
 
     @property

@@ -1,7 +1,8 @@
 """Two patrols' aisle gates (mission/patrol/aisle_gate.py) against the dispatcher's arbiter through
 a real router (mutual TLS, the fleet's access control), on the tiny greenhouse's aisle map given
 as outlines (fleet.aisles.outlines). The robots are their gates driven by synthetic poses along
-straight paths; lengths are straight-line (the tree gives the planner's)."""
+straight paths; lengths are straight-line (the tree gives the planner's). The drive's filter
+(``keep_out``) is checked on the real planner over the tiny greenhouse's costmap."""
 from __future__ import annotations
 
 import time
@@ -13,11 +14,13 @@ from fleet.aisle_locks import AisleLockServer
 from fleet.aisles import find_aisles, outlines
 from mission.link.aisle_client import AisleLockClient
 from mission.link.wire import alive_key
-from mission.patrol.aisle_gate import MOUTH, SIDE, AisleGate
+from mission.patrol.aisle_gate import CLEAR, MOUTH, SIDE, AisleGate
 from mission.patrol.aisle_outlines import NO_AISLE, AisleOutlines
 from tests.fleet.conftest import member, wait_for
 from tests.fleet.test_aisles import tiny_greenhouse
-from tests.nav.builders import straight_path
+from nav.config import NavConfig
+from nav.planner import NavfnPlanner
+from tests.nav.builders import greenhouse_grid, straight_path
 
 
 def _outlines() -> tuple[AisleOutlines, int, int]:
@@ -111,3 +114,42 @@ def test_two_robots_each_in_the_aisle_the_other_wants_one_backs_out_and_both_get
     gates["r1"].progress(to_b[-3:])  # r1 in B at its pot: A is behind it
     assert wait_for(lambda: server.table.held() == {b: "r1"})
     assert gates["r2"].enter(_path(tuple(out), (6.0, 1.5), (3.0, 1.5)), _straight(out)).go
+
+
+def test_a_drive_is_planned_around_the_aisles_the_robot_does_not_hold():
+    """The navigator's filter (``keep_out``): from the west cross aisle to the east one, the
+    shortest way is through A; holding only the south strip, the plan keeps out of A and B and
+    takes the strip; standing inside A without holding it, the plan may still leave by A."""
+    shapes, a, b = _outlines()
+    m, pots = tiny_greenhouse()
+    strip = int(find_aisles(m, pots).at(3.5, 0.5))
+    gate = AisleGate(None, shapes)
+    grid, planner = greenhouse_grid(), NavfnPlanner(NavConfig().planner)
+    west, east = (0.9, 1.5), (6.1, 1.5)
+    assert a in shapes.along(planner.plan(grid, west, east))  # unconstrained: straight through A
+    gate.held = [strip]
+    kept = planner.plan(gate.keep_out(grid, west), west, east)
+    assert np.hypot(*(kept[-1] - east)) < 0.1, "the plan did not reach the goal"
+    assert shapes.along(kept) == [strip]
+    gate.held = []
+    inside = (3.5, 1.5)
+    out = planner.plan(gate.keep_out(grid, inside), inside, west)
+    assert np.hypot(*(out[-1] - west)) < 0.1 and shapes.along(out) == [a]
+    assert (gate.keep_out(grid, west).data >= grid.data).all()  # it only ever closes ground
+
+
+@pytest.mark.slow
+def test_a_robot_standing_on_an_aisles_edge_keeps_it_until_its_body_is_clear(fleet):
+    """A pot's approach pose can lie a few cm either side of an outline: the aisle is let go
+    only once the robot's centre is ``CLEAR`` of it, and the other robot is refused till then."""
+    server, gates, shapes, a, _ = fleet
+    end = shapes.polygons[a][:, 0].max()
+    assert gates["r1"].enter(_path((3.5, 1.5), (end + 0.05, 1.5)), _straight(np.array([3.5, 1.5]))).go
+    gates["r1"].progress(np.array([[end + 0.1, 1.5]]))  # out by its centre, not by its body
+    time.sleep(0.3)
+    assert server.table.held() == {a: "r1"} and gates["r1"].held == [a]
+    beyond = np.array([end + CLEAR + 0.5, 1.0])
+    assert not gates["r2"].enter(_path(tuple(beyond), (3.5, 1.5)), _straight(beyond)).go
+    gates["r1"].progress(np.array([[end + CLEAR + 0.05, 1.5]]))
+    assert wait_for(lambda: server.table.held() == {})
+    assert gates["r2"].enter(_path(tuple(beyond), (3.5, 1.5)), _straight(beyond)).go
