@@ -56,11 +56,13 @@ REPORT_EVERY = 5.0
 most this old (a pot takes ~6 s of robot time, a few times that in the sim's fast wall time)."""
 POLL = 0.2
 """Wall seconds between looks at the robots' telemetry (their fast beat is 10 Hz)."""
-LOST_AFTER = 3.0
-"""Wall seconds a robot's liveliness token must stay away before its pots are handed over: a
-machine stalled past the robots' 800 ms lease drops every token at once and they are back as
-soon as it goes on (``mission.link.roster``), and handing a live robot's pots over costs a
-patrol; a robot really gone waits 3 s longer for its pots to move (``fleet.aisle_locks``' grace)."""
+LOST_AFTER = 10.0
+"""Wall seconds a robot's liveliness token must stay away before its pots are handed over:
+handing a live robot's pots over costs a patrol done twice, and tokens lapse without a robot
+dying: a Wi-Fi roam on a farm, or a machine stalled past the robots' 800 ms lease (every token
+drops at once and comes back as soon as it goes on, ``mission.link.roster``; at load 20 one
+stayed away past 3 s). Against a makespan of minutes, a dead robot's pots moving 10 s later
+cost little; its aisles are freed sooner (``fleet.aisle_locks.LOCK_GRACE``)."""
 
 
 class DispatchError(Exception):

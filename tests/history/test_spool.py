@@ -101,6 +101,7 @@ def test_a_database_down_at_the_start_gets_the_whole_patrol_later_and_sync_sends
     assert recorder.patrol_id is None
     for pot, tag in (("P01", 1), ("P02", 2)):
         record(r, mission, pot, visit(pot, tag))
+        assert recorder.drain()  # one write a pot: a writer behind the patrol would send both as one
     r.finish("completed")
     assert not recorder.wait()  # not in the database: it waits in the spool
     h.close()
