@@ -21,11 +21,10 @@ from fleet.assign import Pose
 from fleet.dispatcher import Dispatcher, write_results
 from fleet.fleet_map import cost_grid, plan_of_world
 from hw.errors import InputError
-from hw.odometry import Pose2D
+from mission.link.fleet_config import spawn_docks
 from mission.link.session import TlsFiles, open_session, session_config
 from mission.patrol.mission_file import Mission, load_mission
 from mission.runtime.config import LupinConfig
-from nav.frames import compose, inverse
 from nav.map_io import load_map
 from nav.occupancy import OccupancyMap
 
@@ -62,13 +61,7 @@ def read_inputs(mission_path: Path, world_path: Path | None, map_path: Path | No
 
 def world_docks(world) -> dict[str, Pose]:
     """The sim world's ``spawns`` as the docks of r1, r2, ... in the first one's frame."""
-    first = world.spawn_poses[0]
-    to_fleet = inverse(Pose2D(first.x, first.y, first.yaw))
-    docks = {}
-    for k, s in enumerate(world.spawn_poses):
-        d = compose(to_fleet, Pose2D(s.x, s.y, s.yaw))
-        docks[f"r{k + 1}"] = (d.x, d.y, d.yaw)
-    return docks
+    return spawn_docks(world.spawn_poses)
 
 
 def _world(path: Path | None):

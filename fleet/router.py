@@ -10,7 +10,8 @@ table of spec/fleet.md "Security" (default deny; ``flows`` as seen by the router
     who         may
     robot R     publish under lupin/R/**, answer queries on lupin/R/cmd/*, lupin/R/stop and
                 lupin/fleet/stop, hold the token lupin/R/alive, read lupin/fleet/**,
-                ask for aisles on lupin/fleet/aisles/ask/R (fleet.aisle_locks)
+                ask for aisles on lupin/fleet/aisles/ask/R (fleet.aisle_locks), read
+                where every robot is, lupin/*/where (mission.link.peers: it keeps out of them)
     console     read everything under lupin/**, query any key (commands, stops, history) but
                 lupin/fleet/aisles/ask/* (a robot's own: no lock taken in its name), see every
                 robot's token; publish nothing, hold no token
@@ -31,6 +32,7 @@ import zenoh
 from fleet.members import Members
 from hw.errors import InputError
 from mission.link.aisle_client import ASK, ask_key
+from mission.link.peers import WHERE
 from mission.link.session import TlsFiles, tls_settings
 from mission.link.wire import FLEET_STOP, alive_key
 
@@ -75,6 +77,8 @@ def access_control(members: Members) -> dict:
         _rule("fleet.read", ["declare_subscriber"], ["ingress"], ["lupin/fleet/**"]),
         _rule("fleet.told", ["put", "delete"], ["egress"], ["lupin/fleet/**"]),
         _rule("fleet.write", ["put", "delete"], ["ingress"], ["lupin/fleet/**"]),
+        _rule("peers.read", ["declare_subscriber"], ["ingress"], [WHERE]),
+        _rule("peers.told", ["put"], ["egress"], [WHERE]),
         {**_rule("aisles.others", ["query"], ["ingress"], [f"{ASK}/*"]), "permission": "deny"},
         _rule("aisles.serve", ["declare_queryable"], ["ingress"], [f"{ASK}/*"]),
         _rule("aisles.asked", ["query"], ["egress"], [f"{ASK}/*"]),
@@ -90,7 +94,8 @@ def access_control(members: Members) -> dict:
         policies.append({"rules": [*reader, "fleet.write", *arbiter], "subjects": ["dispatcher"]})
     if members.robots:
         subjects.append({"id": "robots", "cert_common_names": list(members.robots)})
-        policies.append({"rules": ["stop", "stop.answered", "fleet.read", "fleet.told"], "subjects": ["robots"]})
+        policies.append({"rules": ["stop", "stop.answered", "fleet.read", "fleet.told", "peers.read", "peers.told"],
+                         "subjects": ["robots"]})
     return {"enabled": True, "default_permission": "deny", "rules": rules, "subjects": subjects, "policies": policies}
 
 

@@ -21,6 +21,7 @@ from typing import Callable
 from mission.history.store import History
 from mission.jobs.serve import Service, run_service
 from mission.jobs.sim_serve import start_sim_service
+from mission.link.fleet_config import spawn_docks
 from mission.link.server import LinkServer
 from mission.link.session import TlsFiles
 from mission.link.telemetry import LOGGING_ROBOT
@@ -67,10 +68,14 @@ def fleet_world(robots: int) -> World:
     return generate_world(max(3, robots - 1), 4, 1, robots=robots)
 
 
-def robot_config(config: LupinConfig, name: str) -> LupinConfig:
-    """Robot ``name``'s config: its link name and, when the config names one, its own state
-    directory inside it (two soft-stop latches must never share a file)."""
+def robot_config(config: LupinConfig, name: str, docks: dict | None = None) -> LupinConfig:
+    """Robot ``name``'s config: its link name, the fleet's docks (``docks``: the world's spawns,
+    unless the config gives them; each robot tells the others where it is from its own,
+    ``mission.link.peers``) and, when the config names one, its own state directory inside it
+    (two soft-stop latches must never share a file)."""
     update: dict = {"link": {"robot": name}}
+    if docks and not config.fleet.docks:
+        update["fleet"] = {"docks": docks}
     if config.runtime.state_dir is not None:
         update["runtime"] = {"state_dir": str(Path(config.runtime.state_dir) / name)}
     return with_overrides(config, update)
@@ -81,10 +86,11 @@ def start_fleet_sim(world: World, config: LupinConfig, names: list[str], runs: P
     """The scene with a robot per name at the world's spawns (in order) and a service on each;
     robot ``name``'s patrols go to ``runs/<name>/`` and into ``history(name)``."""
     scene = SimScene(world, config.sim, names)
+    docks = dict(zip(names, spawn_docks(world.spawn_poses).values()))  # robot k at spawn k
     services: dict[str, Service] = {}
     try:
         for k, name in enumerate(names):
-            services[name] = start_sim_service(world.for_robot(k), robot_config(config, name), Path(runs) / name,
+            services[name] = start_sim_service(world.for_robot(k), robot_config(config, name, docks), Path(runs) / name,
                                                wall_now, history(name), scene=scene, name=name)
     except BaseException:
         FleetSim(scene, services).close()

@@ -23,10 +23,12 @@ from dataclasses import dataclass, field
 
 import zenoh
 
+from hw.odometry import Pose2D
 from mission.link.aisle_client import AisleLockClient
 from mission.link.commands import CommandRefused, parse_command
 from mission.link.config import LinkConfig
 from mission.link.outbox import Outbox
+from mission.link.peers import Peers
 from mission.link.session import (ROBOT_LEASE_MS, TlsFiles, check_endpoint, free_endpoint, open_session,
                                   session_config)
 from mission.link.telemetry import LinkLogHandler, Telemetry
@@ -67,8 +69,10 @@ class LinkServer:
         self._queryable = self.session.declare_queryable(cmd_key(config.robot, "*"), self._on_query)
         self._stops = [self.session.declare_queryable(k, self._on_stop) for k in (stop_key(config.robot), FLEET_STOP)]
         self._alive = self.session.liveliness().declare_token(alive_key(config.robot))
+        self.peers: Peers | None = None
         if connect:  # in a fleet: its patrols ask the dispatcher for aisles through this session
             service.aisle_client = AisleLockClient(self.session, config.robot)
+            self.peers = self._peers(service, config.robot)
         self._log = LinkLogHandler(self.outbox, config.robot, lambda: service.now)
         logging.getLogger().addHandler(self._log)
         sched = service.robot.scheduler
@@ -77,6 +81,17 @@ class LinkServer:
         sched.every("link.maps", config.map_rate, self.telemetry.maps)
         sched.every("link.commands", COMMAND_RATE, self._drain)
         self.commands_done = 0
+
+    def _peers(self, service, robot: str) -> Peers | None:
+        """The other robots kept out of (``mission.link.peers``), from this robot's dock."""
+        dock = service.config.fleet.docks.get(robot)
+        if dock is None:
+            log.warning("%s: no dock of its own in fleet.docks: it cannot tell the others where it is, "
+                        "nor place them, and keeps out of them on its lidar only", robot)
+            return None
+        peers = Peers(self.session, self.outbox, robot, Pose2D(*dock))
+        peers.attach(service.nav, service.robot.scheduler)
+        return peers
 
     # --- Zenoh's threads -----------------------------------------------------------------------
     def _on_stop(self, query: zenoh.Query) -> None:
@@ -137,6 +152,8 @@ class LinkServer:
         for q in self._stops:
             q.undeclare()
         self._alive.undeclare()
+        if self.peers is not None:
+            self.peers.close(self.service.nav, self.service.robot.scheduler)
         self.service.aisle_client = None
         self.outbox.close()
         self.session.close()

@@ -57,7 +57,7 @@ def attach_navigation(robot: Robot, localisation: Localisation | None = None) ->
     localisation = localisation or get_localisation(cfg, odom_pose, scan, static_map, robot.hal.clock.deterministic)
     readiness = Readiness({"scans": lambda: scan() is not None, "map": localisation.has_map,
                            "transform": localisation.ready}, cfg.navigator.readiness_timeout)
-    nav = Navigator(cfg, sources, localisation, local_costmap(cfg.costmap, people.confident), gcm, NavfnPlanner(cfg.planner),
+    nav = Navigator(cfg, sources, localisation, local_costmap(cfg.costmap, people.confident, lambda: localisation.map_to_odom()), gcm, NavfnPlanner(cfg.planner),
                     MppiController(cfg.mppi, cfg.costmap), readiness)
     sched = robot.scheduler
     sched.every("nav.localisation", localisation.rate, localisation.tick)

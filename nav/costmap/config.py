@@ -52,6 +52,23 @@ class PersonLayerConfig(Strict):
     pots do not explain at 0.5: a person until shown otherwise)."""
 
 
+class RobotsLayerConfig(Strict):
+    """The robots layer (``nav.costmap.robots``, issue 34): the fleet's other robots kept out of
+    like people, where each says it is (its own belief, through the router), since the lidar sees
+    only a robot's lidar puck and arm (its chassis is below the scan plane)."""
+
+    margin: float = Field(0.1, ge=0)
+    """Body to body, m, beyond the two footprints (each ``robot_radius``: the chassis box, 0.165 x
+    0.13 m half sizes, is 0.21 m to its corner): the lethal disc is 0.22 + 0.1 + 0.22 m centre to
+    centre. It holds the two robots' beliefs of where they are against where they are (the SLAM
+    maps agree to a few cm, ``lupin bench slam``) and a pose 0.1 s old at 0.3 m/s (3 cm); and it
+    stays under ``mission.patrol.aisle_gate.SIDE`` (0.6 m), so a robot waiting beside an aisle's
+    mouth does not close the way out for the one leaving it."""
+    gradient: float = Field(0.25, ge=0)
+    """Reach of the cost falloff past the lethal disc, m: the person layer's (MPPI's obstacle
+    critic reads it back as a distance)."""
+
+
 class LocalCostmapConfig(Strict):
     """The 3 x 3 m window rolling with the robot, in ``odom`` (obstacle + inflation layers)."""
 
@@ -118,6 +135,8 @@ class CostmapsConfig(Strict):
     obstacle_min_range: float = Field(0.25, ge=0)
     """Lidar returns closer than this are dropped, m (seed: 0.25 in both costmaps, AMCL and SLAM:
     the lidar sees the robot's own arm at ~0.10 m)."""
+    robots: RobotsLayerConfig = RobotsLayerConfig()
+    """The fleet's other robots in both costmaps (a robot alone has none)."""
     local_costmap: LocalCostmapConfig = LocalCostmapConfig()
     """The rolling local window MPPI scores against (seed: local costmap)."""
     global_costmap: GlobalCostmapConfig = GlobalCostmapConfig()

@@ -10,7 +10,9 @@ As Nav2's LayeredCostmap, each update runs the layers in order on a fresh master
 4. people (both costmaps): tracked people's keep-out discs and falloff written over the
    inflated master (``nav.costmap.people``; after inflation, since a keep-out already counts the
    robot's radius). ``without_people`` is the same master with the people's bodies taken out
-   instead: the navigator plans on it to tell "a person is in the only way" from "no way".
+   instead: the navigator plans on it to tell "a person is in the only way" from "no way";
+5. robots (both costmaps): the fleet's other robots' footprints, the same way (``nav.costmap.robots``;
+   nothing for a robot alone). ``without_people`` leaves them out too: they move on like people.
 
 ``local_costmap`` is the seed's 3 x 3 m window in ``odom`` rolling with the robot: before each
 update it re-centres on the robot by whole cells (the window's corners stay on the world's
@@ -38,7 +40,9 @@ from nav.costmap.grid import FREE, UNKNOWN, CostGrid
 from nav.costmap.inflation import InflationLayer
 from nav.costmap.obstacle import ObstacleLayer
 from nav.costmap.people import PersonLayer
+from nav.costmap.robots import RobotsLayer
 from nav.costmap.static import StaticLayer
+from nav.frames import inverse
 from nav.grid_geometry import GridGeometry, paste
 
 
@@ -51,9 +55,11 @@ START_SIZE = 4.0
 
 class Costmap:
     def __init__(self, frame: CostGrid, obstacle: ObstacleLayer, inflation: InflationLayer,
-                 static: StaticLayer | None = None, rolling: bool = False, people: PersonLayer | None = None):
+                 static: StaticLayer | None = None, rolling: bool = False, people: PersonLayer | None = None,
+                 robots: RobotsLayer | None = None):
         self._default = int(frame.data.flat[0])
         self.obstacle, self.inflation, self.static, self.people = obstacle, inflation, static, people
+        self.robots = robots
         self.rolling = rolling
         self._grid = frame.copy()
         self._rebuild()
@@ -142,6 +148,8 @@ class Costmap:
         costs = self.inflation.apply(self._merged())
         if self.people is not None:
             costs = self.people.apply(costs, layer.geometry)
+        if self.robots is not None:
+            costs = self.robots.apply(costs, layer.geometry)
         self._grid = CostGrid(costs, layer.resolution, layer.origin_x, layer.origin_y)
 
 
@@ -154,14 +162,20 @@ def _people(cfg: CostmapsConfig, layer: PersonLayerConfig, people: PeopleSource,
     return PersonLayer(layer, cfg.robot_radius, cfg.cost_scaling_factor, people, frame)
 
 
+def _robots(cfg: CostmapsConfig, frame: Callable[[], Pose2D]) -> RobotsLayer:
+    return RobotsLayer(cfg.robots, cfg.robot_radius, cfg.cost_scaling_factor, frame)
+
+
 def _cells(metres: float, resolution: float) -> int:
     return max(1, int(round(metres / resolution)))
 
 
-def local_costmap(cfg: CostmapsConfig, people: PeopleSource = nobody) -> Costmap:
+def local_costmap(cfg: CostmapsConfig, people: PeopleSource = nobody,
+                  map_to_odom: Callable[[], Pose2D] = Pose2D) -> Costmap:
     """The 3 x 3 m window rolling with the robot (``odom``), obstacle + inflation + people
-    (``people``: the tracker's, in odom), starts free (or unknown with ``track_unknown_space``);
-    centred on the odom origin until the first update."""
+    (``people``: the tracker's, in odom) + robots (map frame, placed by the inverse of
+    ``map_to_odom``), starts free (or unknown with ``track_unknown_space``); centred on the
+    odom origin until the first update."""
     lc, res = cfg.local_costmap, cfg.resolution
     n = _cells(lc.size, res)
     default = UNKNOWN if lc.track_unknown_space else FREE
@@ -170,7 +184,7 @@ def local_costmap(cfg: CostmapsConfig, people: PeopleSource = nobody) -> Costmap
     obstacle = ObstacleLayer(frame.copy(), cfg.obstacle_min_range, lc.obstacle_max_range, lc.raytrace_max_range,
                              lc.inf_is_valid)
     return Costmap(frame, obstacle, _inflation(cfg), rolling=True,
-                   people=_people(cfg, lc.people, people, Pose2D))
+                   people=_people(cfg, lc.people, people, Pose2D), robots=_robots(cfg, lambda: inverse(map_to_odom())))
 
 
 def global_costmap(cfg: CostmapsConfig, people: PeopleSource = nobody,
@@ -185,4 +199,5 @@ def global_costmap(cfg: CostmapsConfig, people: PeopleSource = nobody,
     obstacle = ObstacleLayer(frame.copy(), cfg.obstacle_min_range, gc.obstacle_max_range, gc.raytrace_max_range,
                              gc.inf_is_valid)
     static = StaticLayer(gc.free_thresh, gc.occupied_thresh, gc.track_unknown_space)
-    return Costmap(frame, obstacle, _inflation(cfg), static, people=_people(cfg, gc.people, people, odom_in_map))
+    return Costmap(frame, obstacle, _inflation(cfg), static, people=_people(cfg, gc.people, people, odom_in_map),
+                   robots=_robots(cfg, Pose2D))

@@ -1,0 +1,100 @@
+"""The fleet's robots to each other: where each one is, so that each keeps out of the others.
+
+The lidar sees little of another robot (its puck and its arm; the chassis is below the scan
+plane), so robots tell each other where they are (issue 34). Each robot on a router puts its own
+pose on ``lupin/<robot>/where`` ten times a second, in the fleet's frame (the first dock's,
+spec/fleet.md): its own belief, its map pose (``map -> odom`` and odometry) composed with its
+dock in that frame (``fleet.docks``; the sim world's ``spawns`` in ``lupin fleet sim``). Nothing
+there is ground truth. Each robot reads every other's (``lupin/*/where``: the router lets a
+robot read these and publish only its own, ``fleet.router``) and hands them, in its own map
+frame, to both costmaps' robots layer (``nav.costmap.robots``), which keep their footprints out
+of the plan and of MPPI's rollouts.
+
+Nothing is forgotten: a robot whose liveliness token went (its computer died, or it was switched
+off) still stands where it last said it was, an obstacle, until it is heard from again; a robot
+carried away is an obstacle where it stood until it speaks (a false obstacle costs a detour, a
+forgotten one a collision). Messages arrive on Zenoh's thread; the runtime reads a copy.
+"""
+from __future__ import annotations
+
+import json
+import logging
+import math
+import threading
+
+import zenoh
+
+from hw.odometry import Pose2D
+from mission.link.outbox import Outbox
+from mission.link.wire import dumps
+from nav.costmap.robots import Peer, no_peers
+from nav.frames import compose, inverse
+
+log = logging.getLogger("lupin.link")
+
+WHERE = "lupin/*/where"
+RATE = 10.0
+"""Poses put a second, Hz: the lidar's rate; a robot at 0.3 m/s moves 3 cm between two."""
+TASK = "link.peers"
+
+
+def where_key(robot: str) -> str:
+    """Where robot ``robot`` says it is (fleet frame)."""
+    return f"lupin/{robot}/where"
+
+
+def read_where(payload: bytes) -> Pose2D | None:
+    """The pose in a ``where`` message; None for anything else (ignored, never an obstacle's end)."""
+    try:
+        x, y, yaw = (float(v) for v in json.loads(payload)["pose"])
+    except (ValueError, KeyError, TypeError):
+        return None
+    return Pose2D(x, y, yaw) if all(map(math.isfinite, (x, y, yaw))) else None
+
+
+class Peers:
+    def __init__(self, session: zenoh.Session, outbox: Outbox, robot: str, dock: Pose2D):
+        """``dock``: this robot's dock (its map frame's origin) in the fleet's frame."""
+        self.outbox, self.robot, self.dock = outbox, robot, dock
+        self._from_fleet = inverse(dock)
+        self._lock = threading.Lock()
+        self._last: dict[str, Pose2D] = {}
+        """Each other robot's last pose, fleet frame."""
+        self._sub = session.declare_subscriber(WHERE, self._on_sample)
+
+    def _on_sample(self, sample: zenoh.Sample) -> None:
+        robot = str(sample.key_expr).split("/")[1]
+        pose = read_where(sample.payload.to_bytes())
+        if robot != self.robot and pose is not None:
+            with self._lock:
+                self._last[robot] = pose
+
+    def tell(self, map_pose: Pose2D, now: float) -> None:
+        """Put this robot's pose (map frame, its own belief) on its key, in the fleet's frame."""
+        p = compose(self.dock, map_pose)
+        msg = {"t": round(now, 3), "pose": [round(p.x, 3), round(p.y, 3), round(p.yaw, 3)]}
+        self.outbox.post(where_key(self.robot), lambda: dumps(msg))
+
+    def around(self) -> list[Peer]:
+        """The other robots as last heard, this robot's map frame, by name."""
+        with self._lock:
+            last = sorted(self._last.items())
+        out = []
+        for name, pose in last:
+            q = compose(self._from_fleet, pose)
+            out.append(Peer(name, q.x, q.y, q.yaw))
+        return out
+
+    def attach(self, nav, scheduler) -> None:
+        """Tell ``nav``'s pose at ``RATE`` on ``scheduler`` and keep the others out of both of
+        its costmaps."""
+        scheduler.every(TASK, RATE, lambda now: self.tell(nav.map_pose(), now))
+        for costmap in (nav.local_costmap, nav.global_costmap):
+            costmap.robots.peers = self.around
+
+    def close(self, nav, scheduler) -> None:
+        """Off the fleet: nothing told, nothing kept out of (the robot is alone again)."""
+        scheduler.cancel(TASK)
+        for costmap in (nav.local_costmap, nav.global_costmap):
+            costmap.robots.peers = no_peers
+        self._sub.undeclare()

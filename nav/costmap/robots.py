@@ -1,0 +1,75 @@
+"""The robots layer: the fleet's other robots kept out of, each where it says it is (issue 34).
+
+A robot's lidar sees little of another: its lidar puck and its arm, the chassis being below the
+scan plane, so on the scan alone robots drove into each other (the fleet benches: 20 contacts
+between two robots on 24 pots, 54 head-on meetings with a dead robot that the others could not
+see). Every robot of a fleet says where it is through the router (``mission.link.peers``: its
+own belief, its map pose composed with its dock), and this layer draws each other robot's
+footprint into the costmap as the person layer draws a person (``nav.costmap.people``): lethal
+out to ``robot_radius + margin + robot_radius`` from its centre (its footprint, the margin, this
+robot's inscribed radius), then the inflation's falloff over ``gradient``. The planner goes round
+it, MPPI keeps its distance, and where it stands in the only way the navigator waits as for a
+person (the master without people, ``Costmap.without_people``, has no robots either: a robot
+moves on, like a person).
+
+No stretch along a robot's velocity, unlike a walker's: the other robot keeps out of this one
+the same way. A robot that dies (its liveliness token gone) stands where it last said it was, so
+the peers' source keeps that pose until the robot is heard from again.
+
+Peers come in the ``map`` frame; ``frame`` gives map's pose in this costmap's frame (the
+identity for the global costmap, ``odom -> map`` for the local one).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Sequence
+
+import numpy as np
+
+from hw.odometry import Pose2D
+from hw.people import Person
+from nav.costmap.config import PersonLayerConfig, RobotsLayerConfig
+from nav.costmap.people import PersonLayer
+from nav.grid_geometry import GridGeometry
+
+
+@dataclass(frozen=True)
+class Peer:
+    """Another robot of the fleet, where it last said it was."""
+
+    name: str
+    x: float
+    y: float
+    """Its centre, this robot's ``map`` frame, m."""
+    yaw: float
+
+
+PeerSource = Callable[[], Sequence[Peer]]
+"""What the layer reads at every rebuild: the other robots, map frame."""
+
+
+def no_peers() -> Sequence[Peer]:
+    """The source of a robot alone."""
+    return ()
+
+
+class RobotsLayer:
+    def __init__(self, config: RobotsLayerConfig, robot_radius: float, cost_scaling_factor: float,
+                 frame: Callable[[], Pose2D] = Pose2D):
+        self.config, self.robot_radius = config, robot_radius
+        self.peers: PeerSource = no_peers
+        """The other robots (map frame); the link sets it when the robot joins a fleet."""
+        discs = PersonLayerConfig(clearance=config.margin, gradient=config.gradient, predict_time=0.0, min_confidence=0.0)
+        self._discs = PersonLayer(discs, robot_radius, cost_scaling_factor, self._bodies, frame)
+
+    def _bodies(self) -> list[Person]:
+        """Each peer as a standing body of the footprint's radius (the person layer's shape)."""
+        return [Person(k, p.x, p.y, 0.0, 0.0, self.robot_radius, 1.0) for k, p in enumerate(self.peers())]
+
+    def apply(self, master: np.ndarray, geometry: GridGeometry) -> np.ndarray:
+        """``master`` with every peer's costs over it; the same array with no peers about."""
+        return self._discs.apply(master, geometry)
+
+    def keep_out(self) -> float:
+        """Centre-to-centre distance inside which this robot's centre is lethal, m."""
+        return 2 * self.robot_radius + self.config.margin
