@@ -39,11 +39,14 @@ class EnterAisles(py_trees.behaviour.Behaviour):
         self._want: list[int] = []
         self._next = -math.inf
         self._waiting = False
+        self._refused_at: float | None = None
+        self._yielded = False
 
     def initialise(self) -> None:
         self._pending = self._moving = self._path = None
         self._next = -math.inf
-        self._waiting = False
+        self._waiting = self._yielded = False
+        self._refused_at = None
         self.feedback_message = ""
 
     def update(self) -> Status:
@@ -66,7 +69,11 @@ class EnterAisles(py_trees.behaviour.Behaviour):
         self._pending = None
         if v.go:
             self.feedback_message = ""
+            self._wait_over(now)
             return Status.SUCCESS
+        if self._refused_at is None:
+            self._refused_at = now
+        self._yielded |= v.back_out
         self._next = now + self.retry
         whose = ", ".join(f"{a} ({r})" for a, r in sorted((v.held_by or {}).items())) or "no answer"
         self.feedback_message = f"{'backing out for' if v.back_out else 'waiting outside'} aisles: {whose}"
@@ -85,9 +92,11 @@ class EnterAisles(py_trees.behaviour.Behaviour):
         try:
             path = self.nav.planner.plan(self.nav.global_costmap.grid, (here.x, here.y), (goal.x, goal.y))
         except PlanningError:
+            self._wait_over(self.clock.now())
             return Status.SUCCESS  # no way there: the drive fails on its own, with the planner's reason
         self._want = self.gate.want(path)
         if not self._want and not self.gate.held:
+            self._wait_over(self.clock.now())
             return Status.SUCCESS  # no aisle on the way, none held: nothing to ask
         self._path, self._pending = path, self.gate.client.ask_later(self._want)
         return Status.RUNNING
@@ -96,6 +105,14 @@ class EnterAisles(py_trees.behaviour.Behaviour):
         if new_status is Status.INVALID and self._moving is not None:
             self.nav.cancel(self.clock.now(), f"{self.name} stopped")
             self._moving = None
+        if new_status is Status.INVALID:
+            self._wait_over(self.clock.now())
+
+    def _wait_over(self, now: float) -> None:
+        """A wait ended: its seconds go to the gate (the report's ``aisles``)."""
+        if self._refused_at is not None:
+            self.gate.waited(now - self._refused_at, self._yielded)
+            self._refused_at, self._yielded = None, False
 
 
 class LetGoBehind(py_trees.behaviour.Behaviour):

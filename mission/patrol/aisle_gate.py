@@ -60,6 +60,24 @@ class AisleGate:
         self.held: list[int] = []
         """The aisles the arbiter last granted this robot (and not let go since)."""
         self._masks: dict[tuple, np.ndarray] = {}
+        self.wait_s, self.waits, self.yields = 0.0, 0, 0
+        """Seconds this patrol waited for aisles, the waits, and how many of them began with a yield."""
+
+    def waited(self, seconds: float, yielded: bool) -> None:
+        """A wait for aisles ended (granted, or the drive given up) after ``seconds``."""
+        self.wait_s += seconds
+        self.waits += 1
+        self.yields += int(yielded)
+
+    # the report's observer (``mission.patrol.report``): its ``aisles`` section
+    def recorded(self, pot, entry: dict, kinds: list[str]) -> None:
+        pass
+
+    def sections(self) -> dict:
+        return {"aisles": {"wait_s": round(self.wait_s, 1), "waits": self.waits, "yields": self.yields}}
+
+    def finished(self, doc: dict) -> None:
+        pass
 
     def want(self, path: np.ndarray) -> list[int]:
         """Every aisle ``path`` (K, 2) crosses, and the ones the robot's body is in at its start:

@@ -168,6 +168,8 @@ class PatrolTree:
                                self.config.lidar_lost_after, self.config.lidar_lost_give_up,
                                armed=lambda: self.nav.readiness.active)
         self.nav.keep_out = None if self.gate is None else self.gate.keep_out
+        if self.gate is not None:
+            self.report.observers.append(self.gate)  # the report's ``aisles``: the waits for them
         self.root = self._build()
 
     @property

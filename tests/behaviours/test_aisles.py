@@ -65,7 +65,8 @@ def test_a_drive_into_an_aisle_another_holds_waits_outside_and_goes_once_it_is_l
     assert table.request("r1", [a]).granted
     client = TableClient(table, "r2")
     nav = AisleNav(Pose2D(6.3, 1.5, np.pi))
-    leaf = EnterAisles("aisles", AisleGate(client, shapes), nav, lambda: Pose2D(0.8, 1.5, np.pi), clock, _straight, RETRY)
+    gate = AisleGate(client, shapes)
+    leaf = EnterAisles("aisles", gate, nav, lambda: Pose2D(0.8, 1.5, np.pi), clock, _straight, RETRY)
     assert tick_at(leaf, clock, 0.0) is Status.RUNNING and client.asked == [[a]]  # asked, not waited
     assert tick_at(leaf, clock, 0.1) is Status.RUNNING  # refused: off to wait outside
     (wait, _, _), = nav.goals
@@ -77,6 +78,7 @@ def test_a_drive_into_an_aisle_another_holds_waits_outside_and_goes_once_it_is_l
     table.request("r1", [])  # r1 has left the aisle
     tick_at(leaf, clock, 2.4)
     assert tick_at(leaf, clock, 2.5) is Status.SUCCESS and table.held() == {a: "r2"}
+    assert gate.sections() == {"aisles": {"wait_s": 2.4, "waits": 1, "yields": 0}}  # refused at 0.1, in at 2.5
 
 
 def test_a_leg_on_open_ground_asks_nothing_and_the_aisles_behind_are_let_go():

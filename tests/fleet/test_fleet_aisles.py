@@ -96,6 +96,7 @@ def _patrols(pots_of: dict[str, list[str]], router, certs, tmp_path) -> set[str]
             assert s.outcome == "completed"
             report = json.loads(s.report_path.read_text())
             assert sorted((p["id"], p["status"]) for p in report["pots"]) == sorted((p, "inspected") for p in pots_of[r])
+            assert (report["aisles"]["wait_s"] > 0) == (r in waited), report["aisles"]  # the report says who waited
         assert wait_for(lambda: arbiter.table.held() == {})  # home, both let go
         return waited
     finally:
