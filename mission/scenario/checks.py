@@ -54,7 +54,7 @@ def expectations(x: Expect, e: Ending) -> list[Check]:
     checks.append(Check("max_sim_time", not e.stopped_at_limit or x.outcome == "aborted",
                         f"the run to end within {x.max_sim_time:g} s", ended))
     if e.events:
-        checks.append(_fired(e.events, e.t0))
+        checks.append(events_fired(e.events, e.t0))
     if x.pots is not None:
         checks += _pots(x.pots, doc)
     kinds = [(a["kind"], a["pot"]) for a in doc["anomalies"]]
@@ -83,7 +83,7 @@ def expectations(x: Expect, e: Ending) -> list[Check]:
     return checks
 
 
-def _fired(events: list[EventEffect], t0: float) -> Check:
+def events_fired(events: list[EventEffect], t0: float) -> Check:
     """Every scripted event fired: one that never did (its ``when_moving`` never came true, or
     the run ended before its time) tested nothing."""
     missed = [_named(v) for v in events if v.fired is None]
@@ -167,6 +167,12 @@ def estop(x: EStopExpect, presses: list[Press], t0: float) -> list[Check]:
         out.append(Check("estop.still_until_resume", ok,
                          "no wheel duty or motion between each release and its resume" if still else "motion after a release",
                          shown or "never released"))
+    if x.max_distance_after_press is not None:
+        far = [p for p in presses if p.distance_after > x.max_distance_after_press]
+        shown = ", ".join(f"{p.distance_after * 1000:.0f} mm after the press at {p.at - t0:.1f} s" for p in presses)
+        out.append(Check("estop.max_distance_after_press", not far,
+                         f"<= {x.max_distance_after_press * 1000:g} mm of true motion from each press to its release",
+                         shown))
     if x.min_speed_at_press is not None:
         slow = [p for p in presses if p.speed < x.min_speed_at_press]
         shown = ", ".join(f"{p.speed:.2f} m/s at {p.at - t0:.1f} s" for p in presses)

@@ -4,7 +4,8 @@ The judge watches from outside the stack (``mission.scenario.motion_log``) while
 then turns the log and the instants the events really fired into the e-stop figures
 (``mission.scenario.judge``) and each event's effect (``mission.scenario.effects``), and checks
 the expectations (``mission.scenario.checks``). The report, images and map of the run stay in
-the directory given.
+the directory given. A fleet scenario (``robots: N``) runs the fleet instead
+(``mission.scenario.fleet_runner``).
 """
 from __future__ import annotations
 
@@ -44,6 +45,8 @@ class ScenarioResult:
     t0: float = 0.0
     people: dict | None = None
     """Clearance and contacts with the walkers (worlds with walkers)."""
+    fleet: dict | None = None
+    """A fleet scenario's robots and ground-truth figures (``mission.scenario.fleet_runner``)."""
 
     @property
     def passed(self) -> bool:
@@ -54,15 +57,24 @@ class ScenarioResult:
             "name": self.name, "file": self.path, "passed": self.passed,
             "sim_time_s": round(self.sim_time_s, 3), "wall_time_s": round(self.wall_time_s, 3), "report": self.report,
             "checks": [{"name": c.name, "passed": c.passed, "expected": c.expected, "actual": c.actual} for c in self.checks],
-            "estop": [{"at": round(p.at - self.t0, 3), "speed_mps": round(p.speed, 3), "ticks_to_zero": p.ticks_to_zero,
-                       "distance_after_m": round(p.distance_after, 4), "still_after_release": p.still_after_release}
-                      for p in self.presses],
+            "estop": [press_json(p, self.t0) for p in self.presses],
             "events": [v.as_json(self.t0) for v in self.events],
             **({"people": self.people} if self.people is not None else {}),
+            **({"fleet": self.fleet} if self.fleet is not None else {}),
         }
 
 
+def press_json(p: Press, t0: float) -> dict:
+    """One press's e-stop figures, times from ``t0`` (the mission's start)."""
+    return {"at": round(p.at - t0, 3), "speed_mps": round(p.speed, 3), "ticks_to_zero": p.ticks_to_zero,
+            "distance_after_m": round(p.distance_after, 4), "still_after_release": p.still_after_release}
+
+
 def run_scenario(scenario: Scenario, directory: Path, wall_now: Callable[[], float] = time.perf_counter) -> ScenarioResult:
+    if scenario.spec.robots is not None:  # a fleet: its own runner, on this one's result
+        from mission.scenario.fleet_runner import run_fleet_scenario
+
+        return run_fleet_scenario(scenario, directory, wall_now)
     wall0 = wall_now()
     run = start_sim_patrol(scenario.world, scenario.mission, scenario.config, Path(directory) / "report.json", wall_now,
                            scenario.events)

@@ -13,7 +13,7 @@ Paths in a scenario are relative to the scenario file.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal, Optional, Union
 
@@ -25,12 +25,21 @@ from hw.input_file import StrictEntry, error_lines, kind_of, read_yaml
 from mission.patrol.events_file import parse_events
 from mission.patrol.mission_file import Mission, load_mission, mission_from_world
 from mission.runtime.config import LupinConfig, with_overrides, with_seed
+from mission.scenario.fleet_file import addressed, by_robot, check_fleet_file
 from sim.world import World, load_default_world, load_world
 
 OUTCOMES = ("completed", "aborted", "battery_low", "failed")
 
 PotSet = Union[Literal["all"], int, list[str]]
 """``all``, how many, or which pot ids."""
+
+
+def pot_set(v: Any) -> Any:
+    ok = v is None or v == "all" or (isinstance(v, int) and not isinstance(v, bool) and v >= 0) or (
+        isinstance(v, list) and all(isinstance(i, str) for i in v))
+    if not ok:
+        raise ValueError(f"must be all, a number or a list of pot ids (got {kind_of(v)})")
+    return v
 
 
 class PotsExpect(StrictEntry):
@@ -41,11 +50,7 @@ class PotsExpect(StrictEntry):
     @field_validator("inspected", "failed", "skipped", mode="before")
     @classmethod
     def _pot_set(cls, v: Any) -> Any:
-        ok = v is None or v == "all" or (isinstance(v, int) and not isinstance(v, bool) and v >= 0) or (
-            isinstance(v, list) and all(isinstance(i, str) for i in v))
-        if not ok:
-            raise ValueError(f"must be all, a number or a list of pot ids (got {kind_of(v)})")
-        return v
+        return pot_set(v)
 
 
 class AnomalyExpect(StrictEntry):
@@ -67,6 +72,9 @@ class EStopExpect(StrictEntry):
     min_speed_at_press: Optional[float] = Field(None, gt=0)
     """Every press found the base driving at least this fast (m/s, ground truth over the control
     tick up to the press): a press at rest tests nothing, so it fails this."""
+    max_distance_after_press: Optional[float] = Field(None, gt=0)
+    """Every press held the base: its true path from the press to the release is at most this
+    (m; the coast of a base braked from driving speed, not a robot that drove on)."""
 
 
 class PauseEffect(StrictEntry):
@@ -134,6 +142,26 @@ class PeopleExpect(StrictEntry):
     people never meet the robot fails instead of passing on nothing."""
 
 
+class FleetExpect(StrictEntry):
+    """What a fleet must do (``robots: N``, ``mission.scenario.fleet_file``), judged on ground truth
+    (``mission.scenario.fleet_judge``)."""
+
+    robot_contacts: Optional[int] = Field(None, ge=0)
+    """Most contacts allowed between two robots' bodies (each pair's onset counts once)."""
+    head_on_in_aisle: Optional[int] = Field(None, ge=0)
+    """Most head-on meetings allowed: two robots in one aisle at once, closing on each other."""
+    pots: Optional[PotSet] = None
+    """The mission's pots inspected by some robot: all, how many, or which ids."""
+    others_drive_while_stopped: Optional[float] = Field(None, gt=0)
+    """While a robot is held by an e-stop, every other robot on patrol drives at least this far
+    (m, ground truth): a stop of one robot must not stop the fleet."""
+
+    @field_validator("pots", mode="before")
+    @classmethod
+    def _pot_set(cls, v: Any) -> Any:
+        return pot_set(v)
+
+
 class EffectsExpect(StrictEntry):
     """Each key judges every event of its kind: the event must have done what it is for."""
 
@@ -163,6 +191,8 @@ class Expect(StrictEntry):
     """Files that must exist beside the report."""
     people: Optional[PeopleExpect] = None
     """Clearance and contacts with the world's walkers (spec/world.md)."""
+    fleet: Optional[FleetExpect] = None
+    """A fleet scenario's contacts, head-on meetings and pots (``mission.scenario.fleet_file``)."""
 
     @field_validator("arm")
     @classmethod
@@ -178,6 +208,8 @@ class ScenarioFile(StrictEntry):
     world: str = "default"
     mission: str = "from-world"
     seed: Optional[int] = None
+    robots: Optional[int] = Field(None, ge=1)
+    """A fleet scenario: this many robots, r1..rN at the world's spawns (``mission.scenario.fleet_file``)."""
     config: dict[str, Any] = {}
     events: list[Any] = []
     expect: Expect = Expect()
@@ -193,6 +225,8 @@ class Scenario:
     mission: Mission
     events: list
     config: LupinConfig
+    robot_events: dict[str, list] = field(default_factory=dict)
+    """A fleet scenario's events by the robot they are addressed to (empty for one robot)."""
 
     @property
     def name(self) -> str:
@@ -225,10 +259,14 @@ def parse_scenario(data: Any, path: Path, base_config: LupinConfig) -> Scenario:
         config = with_seed(config, spec.seed)
     world = load_default_world() if spec.world == "default" else load_world(_relative(path, spec.world))
     mission = mission_from_world(world) if spec.mission == "from-world" else load_mission(_relative(path, spec.mission))
-    events = parse_events(spec.events, source, config, world)
+    check_fleet_file(data, spec, len(world.spawn_poses), world.name, source)
+    plain, to = addressed(spec.events, spec.robots, source)
+    events = parse_events(plain, source, config, world)
+    robot_events = {} if spec.robots is None else \
+        by_robot(plain, to, spec.robots, lambda mine: parse_events(mine, source, config, world))
     if spec.expect.people is not None and not world.walkers:
         raise InputError(f"{source}: expect: field 'people': the world {world.name!r} has no walkers to judge against")
-    return Scenario(path, spec, world, mission, events, config)
+    return Scenario(path, spec, world, mission, events, config, robot_events)
 
 
 def load_scenario(path: str | Path, base_config: LupinConfig | None = None) -> Scenario:
