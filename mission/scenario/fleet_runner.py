@@ -15,7 +15,8 @@ event effects) and the fleet watch on the shared scene (``mission.scenario.fleet
 contacts, aisles, true paths).
 
 ``max_sim_time`` counts from the first patrol's start: past it every patrol still running is
-aborted (on the runtimes' thread, as an operator's abort), so the dispatcher ends too.
+aborted (on the runtimes' thread, as an operator's abort), so the dispatcher ends too; ``GRACE``
+later the runtimes close.
 
 A fleet run is a function of its seed only as far as the dispatcher's wall-clock timing lets it:
 the instant each robot's part reaches it is the link's, so two runs of a scenario may differ in
@@ -49,6 +50,10 @@ from mission.scenario.scenario_file import Scenario
 WALL_LIMIT = 3600.0
 """Wall seconds the dispatcher follows the fleet at most: a guard for a runtime that hangs (the
 scenario's own limit, ``max_sim_time``, is sim time and ends every patrol first)."""
+GRACE = 60.0
+"""s of sim time past ``max_sim_time`` after which the runtimes stop and close: a dispatcher still
+following then (a part it thinks was queued, a report it never got) sees every robot's
+liveliness go and ends, so a scenario that went wrong fails instead of hanging."""
 COMMAND_TIMEOUT = 8.0
 """s a robot's link waits for its runtime to take a command: a first patrol starts slowly (the
 planner's kernels compile), as in the fleet's tests."""
@@ -109,7 +114,10 @@ class Stepping:
             while not self.stop.is_set():
                 self.fleet.step()
                 starts = [p.t0 for p in self.plays.values() if p.t0 is not None]
-                if self.fleet.scene.engine.time > min(starts, default=0.0) + self.limit:
+                late = self.fleet.scene.engine.time - (min(starts, default=0.0) + self.limit)
+                if late > GRACE:  # a dispatcher that never saw the end: the robots go, it hands over to nobody
+                    break
+                if late > 0:
                     for service in self.fleet.services.values():
                         if service.run is not None:
                             self.at_limit = True
