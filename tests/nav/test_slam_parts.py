@@ -166,16 +166,21 @@ def test_the_mapper_tracks_a_drive_with_biased_odometry_and_maps_the_pots():
 
 def reference_integrate(logodds: np.ndarray, seen: np.ndarray, geometry, sensor_xy, ends: np.ndarray) -> None:
     """The grid update in plain vectorised numpy (sample every beam every half cell, unique the
-    cells): what the numba tracer must equal."""
-    from nav.slam.grid import L_HIT, L_MAX, L_MIN, L_MISS
+    cells, a sample within its surface shadow dropped on a cell that leans occupied): what the
+    numba tracer must equal."""
+    from nav.slam.grid import L_HIT, L_MAX, L_MIN, L_MISS, surface_shadow
 
     sx, sy = sensor_xy
     d = ends - (sx, sy)
-    steps = np.maximum(np.ceil(np.hypot(d[:, 0], d[:, 1]) / (0.5 * geometry.resolution)).astype(np.int64), 1)
+    length = np.hypot(d[:, 0], d[:, 1])
+    steps = np.maximum(np.ceil(length / (0.5 * geometry.resolution)).astype(np.int64), 1)
     beam = np.repeat(np.arange(len(ends)), steps)
     first = np.repeat(np.cumsum(steps) - steps, steps)
     frac = (np.arange(len(beam)) - first) / steps[beam]
-    free = np.unique(geometry.flat_index(sx + d[beam, 0] * frac, sy + d[beam, 1] * frac))
+    free = geometry.flat_index(sx + d[beam, 0] * frac, sy + d[beam, 1] * frac)
+    shadowed = (1.0 - frac) * length[beam] < surface_shadow(sx, sy, ends[:, 0].copy(), ends[:, 1].copy())[beam]
+    leans = logodds.reshape(-1)[np.maximum(free, 0)] > 0.0
+    free = np.unique(free[~(shadowed & leans)])
     hit = np.unique(geometry.flat_index(ends[:, 0], ends[:, 1]))
     free, hit = free[free >= 0], hit[hit >= 0]
     miss = np.setdiff1d(free, hit, assume_unique=True)
