@@ -23,11 +23,11 @@ WORKERS = 2
 
 
 def _run(path: str) -> dict:
-    from mission.scenario.runner import run_scenario
+    from fleet.scenario_runner import run_any
     from mission.scenario.scenario_file import load_scenario
 
     with tempfile.TemporaryDirectory() as tmp:
-        return run_scenario(load_scenario(path), Path(tmp)).as_json()
+        return run_any(load_scenario(path), Path(tmp)).as_json()
 
 
 @benchmark("scenario.suite")

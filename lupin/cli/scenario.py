@@ -37,14 +37,14 @@ def run(
     out: Path = typer.Option(DEFAULT_OUT, "--out", help="Each scenario's report goes in OUT/<name>/."),
 ) -> None:
     """Run scenario files and print pass / fail per expectation."""
-    from mission.scenario.runner import run_scenario
+    from fleet.scenario_runner import run_any
     from mission.scenario.scenario_file import load_scenario
 
     config = run_config(ctx)
     scenarios = [load_scenario(f, config) for f in files]  # all checked before any runs
     failed = 0
     for s in scenarios:
-        result = run_scenario(s, report_dir(out, s.name))
+        result = run_any(s, report_dir(out, s.name))
         failed += not result.passed
         if as_json:
             print(json.dumps(result.as_json()), flush=True)

@@ -1,7 +1,7 @@
 """A scenario file's fleet part (issue 34, "Judging"): ``robots: N``, events addressed to a
 robot, ``expect.fleet``.
 
-A scenario with ``robots: N`` is run by the real fleet (``mission.scenario.fleet_runner``): N
+A scenario with ``robots: N`` is run by the real fleet (``fleet.scenario_runner``): N
 robots at the world's first N ``spawns`` (``r1``..``rN``), a router, and the dispatcher splitting
 the mission. Each event may say which robot it happens to (``robot: r2``; ``r1`` when left out)
 and is played on that robot's runtime, ``at`` counted from that robot's patrol start, as for one

@@ -5,7 +5,7 @@ then turns the log and the instants the events really fired into the e-stop figu
 (``mission.scenario.judge``) and each event's effect (``mission.scenario.effects``), and checks
 the expectations (``mission.scenario.checks``). The report, images and map of the run stay in
 the directory given. A fleet scenario (``robots: N``) runs the fleet instead
-(``mission.scenario.fleet_runner``).
+(``fleet.scenario_runner``).
 """
 from __future__ import annotations
 
@@ -46,7 +46,7 @@ class ScenarioResult:
     people: dict | None = None
     """Clearance and contacts with the walkers (worlds with walkers)."""
     fleet: dict | None = None
-    """A fleet scenario's robots and ground-truth figures (``mission.scenario.fleet_runner``)."""
+    """A fleet scenario's robots and ground-truth figures (``fleet.scenario_runner``)."""
 
     @property
     def passed(self) -> bool:
@@ -71,10 +71,10 @@ def press_json(p: Press, t0: float) -> dict:
 
 
 def run_scenario(scenario: Scenario, directory: Path, wall_now: Callable[[], float] = time.perf_counter) -> ScenarioResult:
-    if scenario.spec.robots is not None:  # a fleet: its own runner, on this one's result
-        from mission.scenario.fleet_runner import run_fleet_scenario
-
-        return run_fleet_scenario(scenario, directory, wall_now)
+    """One robot's scenario (a fleet's is ``fleet.scenario_runner.run_any``'s: ``fleet`` sits above
+    ``mission``)."""
+    if scenario.spec.robots is not None:
+        raise ValueError(f"{scenario.name}: a fleet scenario (robots: {scenario.spec.robots}) runs with fleet.scenario_runner")
     wall0 = wall_now()
     run = start_sim_patrol(scenario.world, scenario.mission, scenario.config, Path(directory) / "report.json", wall_now,
                            scenario.events)

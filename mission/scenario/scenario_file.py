@@ -144,7 +144,7 @@ class PeopleExpect(StrictEntry):
 
 class FleetExpect(StrictEntry):
     """What a fleet must do (``robots: N``, ``mission.scenario.fleet_file``), judged on ground truth
-    (``mission.scenario.fleet_judge``)."""
+    (``fleet.scenario_judge``)."""
 
     robot_contacts: Optional[int] = Field(None, ge=0)
     """Most contacts allowed between two robots' bodies (each pair's onset counts once)."""

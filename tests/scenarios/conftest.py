@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from mission.scenario.runner import run_scenario
+from fleet.scenario_runner import run_any
 from mission.scenario.scenario_file import load_scenario
 
 
@@ -30,7 +30,7 @@ class ScenarioFailed(Exception):
 class ScenarioItem(pytest.Item):
     def runtest(self):
         scenario = load_scenario(self.path)
-        result = run_scenario(scenario, self.config._tmp_path_factory.mktemp(self.name))
+        result = run_any(scenario, self.config._tmp_path_factory.mktemp(self.name))
         if not result.passed:
             raise ScenarioFailed("\n".join(c.line() for c in result.checks if not c.passed) + f"\nreport: {result.report}")
 

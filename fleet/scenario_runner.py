@@ -11,7 +11,7 @@ Each robot's events are played on its own runtime (``mission.jobs.events``, as f
 ``at`` counted from the start of that robot's first patrol (when the dispatcher's part reaches
 it; from the next control beat, ``on_beat``). The judge watches from outside: a motion log per
 robot (``mission.scenario.motion_log``: its duties and true pose, for its e-stop figures and
-event effects) and the fleet watch on the shared scene (``mission.scenario.fleet_judge``:
+event effects) and the fleet watch on the shared scene (``fleet.scenario_judge``:
 contacts, aisles, true paths).
 
 ``max_sim_time`` counts from the first patrol's start: past it every patrol still running is
@@ -41,10 +41,10 @@ from mission.runtime.config import with_overrides
 from mission.scenario.checks import Check
 from mission.scenario.effects import event_effects
 from mission.scenario.fleet_file import robot_names
-from mission.scenario.fleet_judge import FleetWatch, fleet_checks, robot_checks, world_aisles
+from fleet.scenario_judge import FleetWatch, fleet_checks, robot_checks, world_aisles
 from mission.scenario.judge import estop_figures
 from mission.scenario.motion_log import MotionLog
-from mission.scenario.runner import ScenarioResult, press_json
+from mission.scenario.runner import ScenarioResult, press_json, run_scenario
 from mission.scenario.scenario_file import Scenario
 
 WALL_LIMIT = 3600.0
@@ -196,3 +196,10 @@ def fleet_json(summary: dict, robots: dict, watch: FleetWatch, t0: float, said: 
                 {"at_s": round(t - t0, 2), "robots": [a, b]} for t, a, b in watch.contacts],
             "head_on_in_aisle": sum(m.head_on for m in watch.meetings),
             "meetings_in_aisle": [m.as_json(t0) for m in watch.meetings], "dispatcher": said}
+
+
+def run_any(scenario: Scenario, directory: Path, wall_now: Callable[[], float] = time.perf_counter) -> ScenarioResult:
+    """Any scenario file: a fleet's here, one robot's by ``mission.scenario.runner``."""
+    if scenario.spec.robots is not None:
+        return run_fleet_scenario(scenario, directory, wall_now)
+    return run_scenario(scenario, directory, wall_now)

@@ -10,7 +10,7 @@ import numpy as np
 
 from hw.odometry import Pose2D
 from mission.patrol.aisle_outlines import AisleOutlines
-from mission.scenario.fleet_judge import FleetWatch, fleet_checks
+from fleet.scenario_judge import FleetWatch, fleet_checks
 from mission.scenario.scenario_file import FleetExpect
 
 AISLE = AisleOutlines({0: np.array([[0.0, 0.0], [5.0, 0.0], [5.0, 1.0], [0.0, 1.0]])})
