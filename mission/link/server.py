@@ -91,6 +91,9 @@ class LinkServer:
             return None
         peers = Peers(self.session, self.outbox, robot, Pose2D(*dock))
         peers.attach(service.nav, service.robot.scheduler)
+        people = getattr(service.robot, "people", None)
+        if people is not None:  # the others' pucks and arms are robots, not people (``mission.runtime.people``)
+            people.robots = peers.around
         return peers
 
     # --- Zenoh's threads -----------------------------------------------------------------------
@@ -154,6 +157,8 @@ class LinkServer:
         self._alive.undeclare()
         if self.peers is not None:
             self.peers.close(self.service.nav, self.service.robot.scheduler)
+            if getattr(self.service.robot, "people", None) is not None:
+                self.service.robot.people.robots = tuple
         self.service.aisle_client = None
         self.outbox.close()
         self.session.close()

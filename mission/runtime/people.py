@@ -101,6 +101,9 @@ REBORN = 0.8
 FAULT_LOG_GAP = 60.0
 """A failing tracker is logged at most this often, s (with its traceback)."""
 
+ROBOT_REACH = 0.45
+"""A track this near another robot's centre is that robot, m: its 0.22 m radius, its arm out
+front (the wrist camera ~0.3 m ahead), and what its pose told over the link lags behind."""
 RATE = 10.0
 """Tracker updates per second: the C1's revolutions (a new scan each)."""
 
@@ -123,6 +126,11 @@ class People:
         self.inherited: set[int] = set()
         """Ids of the tracks born where a person's track was just lost (``_inherit``)."""
         self._gone: list[tuple[float, float, float]] = []
+        self.robots: Callable[[], Sequence] = tuple
+        """Where the fleet's other robots say they stand, map frame (``mission.link.peers``): a
+        track on one is that robot (its lidar puck and arm in the scan plane look like a leg
+        pair), never a person: measured on ``fleet.patrol_small``, robots stepped "out of a
+        walker's way" of each other in a greenhouse with no one in it."""
         self.arcs: dict[int, deque[bool]] = {}
         """Per track: whether it was seen as a leg arc, on each of its last ``LEG_WINDOW`` scans."""
         self._origin: dict[int, tuple[float, float]] = {}
@@ -212,8 +220,16 @@ class People:
                         else self._origin[p.id] for p in self.tracks}
         self.walked = {p.id for p in self.tracks if p.id in self.walked
                        or np.hypot(p.x - self._origin[p.id][0], p.y - self._origin[p.id][1]) > WALKED}
-        self._shown = tuple(p for p in self.tracks
-                            if p.id in self.walked or p.id in self.inherited or self.legged(p.id))
+        self._shown = tuple(p for p in self.tracks if not self._on_robot(p)
+                            and (p.id in self.walked or p.id in self.inherited or self.legged(p.id)))
+
+    def _on_robot(self, p: Person) -> bool:
+        """Is the track within ``ROBOT_REACH`` of where another robot of the fleet says it is?"""
+        robots = self.robots()
+        if not robots:
+            return False
+        m2o = self.map_to_odom()
+        return any(math.hypot(q.x - p.x, q.y - p.y) <= ROBOT_REACH for q in (compose(m2o, r) for r in robots))
 
     def _inherit(self, stamp: float, shown: dict[int, tuple[float, float]]) -> None:
         """A person's track lost (hidden a moment, or cut by the map at a wall) leaves where it

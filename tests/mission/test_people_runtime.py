@@ -226,3 +226,18 @@ def test_a_tracker_that_fails_on_a_scan_is_logged_and_drops_its_people_without_r
         assert rig.ticks(3) == ()
     assert rig.people.failures == 3
     assert sum("person tracker failed" in r.message for r in caplog.records) == 1  # once a minute, not per scan
+
+
+def test_a_track_where_another_robot_of_the_fleet_says_it_stands_is_that_robot_not_a_person():
+    """Another robot's lidar puck and arm look like a pair of legs: a track within ROBOT_REACH of
+    where a fleet's robot says it is (map frame, over the link) is never shown a person."""
+    walls, pots = scene()
+    rig = Rig(mapped(walls), heading=math.pi)  # a pair of legs in view, as the other robot's would be
+    rig.people.watch(pots, 0.10)
+    rig.people.robots = lambda: [Pose2D(WORKER[0] + 0.2, WORKER[1], 0.0)]
+    rig.ticks(LEGS_SEEN + 3)
+    assert rig.people.current() and rig.people.confident() == ()
+    rig.people.robots = lambda: [Pose2D(WORKER[0] + 1.0, WORKER[1], 0.0)]  # that robot is elsewhere: a person
+    rig.ticks(1)
+    (p,) = rig.people.confident()
+    assert math.hypot(p.x - WORKER[0], p.y - WORKER[1]) < 0.15
