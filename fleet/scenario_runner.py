@@ -33,6 +33,7 @@ from typing import Callable
 from fleet.fleet_map import plan_of_world
 from fleet.fleet_patrol import Inputs, fleet_patrol, world_docks
 from fleet.router import open_router
+from fleet.scenario_judge import FleetWatch, fleet_checks, robot_checks, world_aisles
 from mission.jobs.events import EventPlayer
 from mission.jobs.fleet_sim import FleetSim, start_fleet_sim
 from mission.jobs.serve import Service
@@ -41,7 +42,6 @@ from mission.runtime.config import with_overrides
 from mission.scenario.checks import Check
 from mission.scenario.effects import event_effects
 from mission.scenario.fleet_file import robot_names
-from fleet.scenario_judge import FleetWatch, fleet_checks, robot_checks, world_aisles
 from mission.scenario.judge import estop_figures
 from mission.scenario.motion_log import MotionLog
 from mission.scenario.runner import ScenarioResult, press_json, run_scenario

@@ -69,7 +69,3 @@ class RobotsLayer:
     def apply(self, master: np.ndarray, geometry: GridGeometry) -> np.ndarray:
         """``master`` with every peer's costs over it; the same array with no peers about."""
         return self._discs.apply(master, geometry)
-
-    def keep_out(self) -> float:
-        """Centre-to-centre distance inside which this robot's centre is lethal, m."""
-        return 2 * self.robot_radius + self.config.margin
