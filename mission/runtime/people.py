@@ -220,16 +220,19 @@ class People:
                         else self._origin[p.id] for p in self.tracks}
         self.walked = {p.id for p in self.tracks if p.id in self.walked
                        or np.hypot(p.x - self._origin[p.id][0], p.y - self._origin[p.id][1]) > WALKED}
-        self._shown = tuple(p for p in self.tracks if not self._on_robot(p)
+        robots = self._robots_in_odom()
+        self._shown = tuple(p for p in self.tracks
+                            if not any(math.hypot(x - p.x, y - p.y) <= ROBOT_REACH for x, y in robots)
                             and (p.id in self.walked or p.id in self.inherited or self.legged(p.id)))
 
-    def _on_robot(self, p: Person) -> bool:
-        """Is the track within ``ROBOT_REACH`` of where another robot of the fleet says it is?"""
+    def _robots_in_odom(self) -> list[tuple[float, float]]:
+        """Where the fleet's other robots say they are, odom frame (a track within
+        ``ROBOT_REACH`` of one is that robot)."""
         robots = self.robots()
         if not robots:
-            return False
+            return []
         m2o = self.map_to_odom()
-        return any(math.hypot(q.x - p.x, q.y - p.y) <= ROBOT_REACH for q in (compose(m2o, r) for r in robots))
+        return [(q.x, q.y) for q in (compose(m2o, r) for r in robots)]
 
     def _inherit(self, stamp: float, shown: dict[int, tuple[float, float]]) -> None:
         """A person's track lost (hidden a moment, or cut by the map at a wall) leaves where it
