@@ -4,9 +4,10 @@ The navigator asks this for the people the costmaps' person layer counts (confid
 the layer's ``min_confidence``): each person's keep-out (their radius, the ``clearance`` and the
 robot's radius) reaching along their next ``predict_time`` seconds of walking, in the map frame,
 to tell a goal a person stands on and a robot a walker is coming at. When the robot stands in a
-keep-out it does not just stand there: ``evade`` steps it out at ``EVADE_SPEED`` (the issue's
-most within 1.0 m of a person), sideways to a walker's way or away from someone standing, along
-the first direction of a fan the local costmap without people keeps free, never towards them.
+keep-out it does not just stand there: ``evade`` steps it out (at ``NEAR_SPEED``, the issue's most
+within 1.0 m of a person, or the layer's ``step_speed`` farther off) towards the nearest place
+out of *everyone's* way (``nav.refuge``): a step away from one person must not lead into the
+walk of another.
 """
 from __future__ import annotations
 
@@ -19,8 +20,9 @@ from hw.interfaces import ZERO_TWIST, Twist
 from hw.odometry import Pose2D
 from hw.people import Person, PeopleSource
 from nav.config import NavConfig
-from nav.costmap.grid import INSCRIBED, CostGrid
+from nav.costmap.grid import CostGrid
 from nav.frames import transform_points
+from nav.refuge import refuge_heading
 
 #: Speed of a step out of a person's way within ``wait_clearance`` (1 m) of them, m/s: issue
 #: 28's most within 1.0 m of a person (farther off, the layer's faster ``step_speed``).
@@ -28,13 +30,8 @@ NEAR_SPEED = 0.15
 #: A walk that passes nearer than this to the robot's body would touch it, m: a few tracker
 #: jitters (``in_lane`` within ``wait_clearance``).
 TOUCH = 0.05
-#: How far ahead a direction to step out along must be free of pots and walls, m.
-EVADE_LOOK = 0.3
-#: A person faster than this is walking somewhere: step sideways to their way, m/s.
+#: A person faster than this is walking somewhere (their way is a lane, ``nav.refuge``), m/s.
 WALKING = 0.2
-#: The fan of directions tried round "away from them" for someone not walking (or no side of a
-#: walker's way with room), rad.
-EVADE_FAN = np.radians([0, 30, -30, 60, -60, 90, -90, 120, -120, 150, -150, 180])
 
 
 class PeopleNearby:
@@ -42,10 +39,22 @@ class PeopleNearby:
         self.layer = config.costmap.global_costmap.people
         self.robot_radius = config.costmap.robot_radius
         self.people, self.map_to_odom = people, map_to_odom
+        self._walks: dict[int, tuple[float, float]] = {}
+        """Each track's last walking velocity, while the tracker follows it (``walks``)."""
 
     def counted(self) -> list[Person]:
-        """The tracker's people the person layer counts."""
-        return [p for p in self.people() if p.confidence >= self.layer.min_confidence]
+        """The tracker's people the person layer counts (each read remembers their walks)."""
+        people = [p for p in self.people() if p.confidence >= self.layer.min_confidence]
+        self._walks = {p.id: (p.vx, p.vy) if math.hypot(p.vx, p.vy) > WALKING else self._walks.get(p.id)
+                       for p in people if math.hypot(p.vx, p.vy) > WALKING or p.id in self._walks}
+        return people
+
+    def walks(self, people: list[Person]) -> np.ndarray:
+        """(P, 5) rows of x, y, vx, vy, radius, odom frame, with someone standing still given the
+        velocity of their last walk (``nav.refuge`` keeps out of their lane): a cart pusher pausing at
+        the end of a cross aisle turns and walks it again (safety.people seed 4: the robot took the
+        paused cart's aisle for a place to wait in, and was in its way when it came back)."""
+        return np.array([[p.x, p.y, *self._walks.get(p.id, (p.vx, p.vy)), p.radius] for p in people], dtype=float)
 
     def keep_out(self, person: Person, clearance: float | None = None) -> float:
         """Centre to centre, m: ``clearance`` (the layer's when None) body to body."""
@@ -103,51 +112,22 @@ class PeopleNearby:
         if not close:
             return ZERO_TWIST
         p = min(close, key=lambda c: c[1])[0]
-        away = here - [p.x, p.y]
-        gap = float(np.hypot(*away)) - p.radius - self.robot_radius
-        away /= max(float(np.hypot(*away)), 1e-9)
+        gap = float(np.hypot(*(here - [p.x, p.y]))) - p.radius - self.robot_radius
         v = self.layer.step_speed if gap > self.layer.wait_clearance else NEAR_SPEED
-        u = self._out_of_lane(p, here, grid, self.keep_out(p, clearance)) if math.hypot(p.vx, p.vy) > WALKING else None
-        if u is None:
-            u = self._fan(away, here, grid)
+        rows = self.walks(people)
+        want = self.layer.clearance if clearance is None else clearance
+        u = refuge_heading(here, rows, grid, self.robot_radius, self.layer.clearance, want,
+                           self.layer.lane_time, WALKING)
         if u is None:
             return ZERO_TWIST
         c, s = math.cos(odom.yaw), math.sin(odom.yaw)
         return Twist(v * (c * u[0] + s * u[1]), v * (-s * u[0] + c * u[1]), 0.0)
-
-    def _out_of_lane(self, p: Person, here: np.ndarray, grid: CostGrid, keep_out: float) -> np.ndarray | None:
-        """The side of a walker's way the robot is on, square to their walk, when ``grid`` has
-        room there to get wholly out of their keep-out; None when it has not (a robot between a
-        cart's way and a wall: a step into the pocket leaves it there when they come by)."""
-        along = np.array([p.vx, p.vy]) / math.hypot(p.vx, p.vy)
-        square = np.array([-along[1], along[0]])
-        lateral = float((here - [p.x, p.y]) @ square)
-        side = square if lateral >= 0 else -square
-        need = keep_out + TOUCH - abs(lateral)
-        return side if _free_run(here, side, need, grid) >= need - 1e-9 else None
-
-    def _fan(self, away: np.ndarray, here: np.ndarray, grid: CostGrid) -> np.ndarray | None:
-        """The first direction of the fan round ``away`` free for ``EVADE_LOOK``, never towards them."""
-        a0 = math.atan2(away[1], away[0])
-        for da in EVADE_FAN:
-            u = np.array([math.cos(a0 + da), math.sin(a0 + da)])
-            if u @ away >= -0.1 and _free_run(here, u, EVADE_LOOK, grid) >= EVADE_LOOK:
-                return u
-        return None
 
     def _segments(self, people: list[Person], reach: float | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Each person now and ``reach`` seconds on (``predict_time`` when None), odom frame."""
         t = self.layer.predict_time if reach is None else reach
         odom = np.array([[p.x, p.y, p.x + p.vx * t, p.y + p.vy * t] for p in people])
         return odom[:, :2], odom[:, 2:]
-
-
-def _free_run(here: np.ndarray, u: np.ndarray, length: float, grid: CostGrid) -> float:
-    """How far along ``u`` from ``here`` the robot is free on ``grid`` (5 cm steps, up to ``length``), m."""
-    steps = np.arange(0.05, length + 0.05, 0.05)
-    path = here + steps[:, None] * u
-    blocked = np.nonzero(grid.cost_at(path[:, 0], path[:, 1], outside=0) >= INSCRIBED)[0]
-    return float(steps[blocked[0]] - 0.05) if len(blocked) else float(steps[-1])
 
 
 def to_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:

@@ -19,6 +19,7 @@ from nav.costmap.layered import global_costmap
 from nav.localisation import OdometryOnly
 from nav.navigator import LANE, Navigator, Sources, State
 from nav.planner import NavfnPlanner
+from tests.nav.builders import dummy_costmap
 from tests.nav.test_navigator import FakeController, FakeCostmap
 
 RES = 0.05
@@ -40,7 +41,12 @@ def one_aisle(closed: bool = False) -> np.ndarray:
 
 
 class LocalCostmap(FakeCostmap):
-    """The fake local costmap, open floor with people taken out too."""
+    """The fake local costmap, open floor with people taken out too, its 3 x 3 m window round
+    the robot as the real one rolls with it."""
+
+    def __init__(self):
+        super().__init__()
+        self.grid = dummy_costmap(60, 60, origin=(START.x - 1.5, START.y - 1.5))
 
     def without_people(self):
         return self.grid

@@ -35,4 +35,4 @@ def test_a_robot_between_a_walkers_way_and_a_wall_does_not_step_into_the_pocket(
 def test_with_room_on_its_own_side_it_steps_there():
     walker = Person(1, 2.6, 0.0, 0.0, 1.0, 0.35, 0.9)
     step = _step(walker, CostGrid.filled(120, 120, 0.05, 0.0, 0.0))
-    assert step[0] > 0.2 and abs(step[1]) < 1e-9  # east, away from their way
+    assert step[0] > 0.2 and abs(step[1]) < 0.1 * step[0]  # east, away from their way

@@ -1,0 +1,60 @@
+"""Where to wait for people (nav.refuge): out of everyone's way, not just the nearest person's.
+
+The layout is safety.people's seed 4, where the robot backed off from a grower into the cross
+aisle a cart pusher walks without yielding: rows of pots east of x 8.9 with aisles between them
+at y 3.5, 4.5 and 5.5, the bays' divider wall west of x 7.25 (both inflated), and the cross
+aisle between them."""
+from __future__ import annotations
+
+import numpy as np
+
+from nav.config import NavConfig
+from nav.costmap.grid import LETHAL, CostGrid
+from nav.people_nearby import WALKING
+from nav.refuge import refuge_heading
+
+LAYER = NavConfig().costmap.global_costmap.people
+RADIUS = NavConfig().costmap.robot_radius
+MOUTH = np.array([9.1, 4.4])  # the robot, at the mouth of the aisle y 4.5
+
+
+def _greenhouse() -> CostGrid:
+    """3 x 3 m round the robot (5 cm), as the local costmap rolls with it."""
+    grid = CostGrid.filled(60, 60, 0.05, MOUTH[0] - 1.5, MOUTH[1] - 1.5)
+    iy, ix = np.mgrid[0:60, 0:60]
+    x, y = grid.geometry.centre_of(ix, iy)
+    grid.data[(x >= 8.9) & (np.abs(y - np.round(y)) < 0.3)] = LETHAL  # the rows, inflated
+    grid.data[x <= 7.25] = LETHAL  # the divider
+    return grid
+
+
+def _heading(people, want=LAYER.wait_clearance):
+    rows = np.array([[p[0], p[1], p[2], p[3], p[4]] for p in people], dtype=float)
+    return refuge_heading(MOUTH, rows, _greenhouse(), RADIUS, LAYER.clearance, want, LAYER.lane_time, WALKING)
+
+
+GROWER = (9.7, 4.5, 0.0, 0.0, 0.2)  # stopped for the robot in their aisle, 0.18 m body to body
+CART = (8.0, 2.8, 0.0, 0.7, 0.35)  # walking north up the cross aisle, not yielding
+
+
+def test_backing_off_from_a_grower_alone_goes_out_into_the_cross_aisle():
+    u = _heading([GROWER])
+    assert u is not None and u[0] < -0.5  # west, away from them: the cross aisle is free
+
+
+def test_with_a_cart_coming_up_the_cross_aisle_it_does_not_back_off_into_the_carts_way():
+    u = _heading([GROWER, CART])
+    assert u is None or u[0] > -1e-9
+
+
+def test_a_robot_in_a_carts_way_leaves_it_on_its_own_side_never_across_in_front():
+    here = np.array([8.3, 4.5])  # in the cross aisle, east of the cart's line
+    rows = np.array([CART], dtype=float)
+    u = refuge_heading(here, rows, _greenhouse(), RADIUS, LAYER.clearance, LAYER.clearance, LAYER.lane_time, WALKING)
+    assert u is not None and u[0] > 0.5  # east, into the aisle mouth
+
+
+def test_a_robot_already_out_of_everyones_way_stays():
+    rows = np.array([CART], dtype=float)
+    assert refuge_heading(MOUTH + [0.3, 0.0], rows, _greenhouse(), RADIUS, LAYER.clearance, LAYER.clearance,
+                          LAYER.lane_time, WALKING) is None
