@@ -32,6 +32,10 @@ NEAR_SPEED = 0.15
 TOUCH = 0.05
 #: A person faster than this is walking somewhere (their way is a lane, ``nav.refuge``), m/s.
 WALKING = 0.2
+#: A person faster than this strides along their walk: their heading is remembered (``walks``)
+#: while the tracker follows them; slower, the tracker's velocity of someone turning or pausing
+#: points anywhere (safety.people seed 4: a paused cart read 0.27 m/s sideways), m/s.
+STRIDING = 0.4
 
 
 class PeopleNearby:
@@ -45,8 +49,8 @@ class PeopleNearby:
     def counted(self) -> list[Person]:
         """The tracker's people the person layer counts (each read remembers their walks)."""
         people = [p for p in self.people() if p.confidence >= self.layer.min_confidence]
-        self._walks = {p.id: (p.vx, p.vy) if math.hypot(p.vx, p.vy) > WALKING else self._walks.get(p.id)
-                       for p in people if math.hypot(p.vx, p.vy) > WALKING or p.id in self._walks}
+        self._walks = {p.id: (p.vx, p.vy) if math.hypot(p.vx, p.vy) > STRIDING else self._walks[p.id]
+                       for p in people if math.hypot(p.vx, p.vy) > STRIDING or p.id in self._walks}
         return people
 
     def walks(self, people: list[Person]) -> np.ndarray:
@@ -54,7 +58,8 @@ class PeopleNearby:
         velocity of their last walk (``nav.refuge`` keeps out of their lane): a cart pusher pausing at
         the end of a cross aisle turns and walks it again (safety.people seed 4: the robot took the
         paused cart's aisle for a place to wait in, and was in its way when it came back)."""
-        return np.array([[p.x, p.y, *self._walks.get(p.id, (p.vx, p.vy)), p.radius] for p in people], dtype=float)
+        return np.array([[p.x, p.y, *((p.vx, p.vy) if math.hypot(p.vx, p.vy) > STRIDING else self._walks.get(p.id, (p.vx, p.vy))),
+                          p.radius] for p in people], dtype=float)
 
     def keep_out(self, person: Person, clearance: float | None = None) -> float:
         """Centre to centre, m: ``clearance`` (the layer's when None) body to body."""

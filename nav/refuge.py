@@ -35,6 +35,13 @@ TOUCH = 0.05
 MARGIN = 0.1
 #: The step heads for the point this far along the way to the refuge, m.
 LOOK = 0.3
+#: A person's walking pace, m/s (the sim's walkers 0.6-1.1): a lane reaches ``lane_time`` at
+#: this pace at least, so a walker slowing to turn at the end of their walk, whom the tracker
+#: still sees creeping at 0.25 m/s, keeps the whole lane they walk.
+PACE = 1.0
+#: The most a body reaches across its walk, m: a cart pusher's tracked circle holds the cart's
+#: length too (up to ~0.8 m), but the lane is as wide as the cart (0.35 m) and its pusher's legs.
+ACROSS = 0.45
 
 
 def refuge_heading(here: np.ndarray, people: np.ndarray, grid: CostGrid, robot_radius: float,
@@ -83,15 +90,18 @@ def _gaps(cx: np.ndarray, cy: np.ndarray, people: np.ndarray, robot_radius: floa
 def _lane_gaps(cx: np.ndarray, cy: np.ndarray, people: np.ndarray, robot_radius: float, lane_time: float,
                walking: float) -> np.ndarray:
     """Body-to-body distance from a robot on each cell to the nearest walker's lane (their line
-    ``lane_time`` on and back), m; inf with no one walking."""
+    ``lane_time`` on and back at ``PACE`` at least, ``ACROSS`` wide at most each side), m; inf
+    with no one walking."""
     out = np.full(cx.shape, np.inf)
     for x, y, vx, vy, r in people:
-        if np.hypot(vx, vy) <= walking:
+        speed = np.hypot(vx, vy)
+        if speed <= walking:
             continue
-        ax, ay, bx, by = x - vx * lane_time, y - vy * lane_time, x + vx * lane_time, y + vy * lane_time
+        reach = lane_time * max(speed, PACE) / speed
+        ax, ay, bx, by = x - vx * reach, y - vy * reach, x + vx * reach, y + vy * reach
         dx, dy = bx - ax, by - ay
         t = np.clip(((cx - ax) * dx + (cy - ay) * dy) / (dx * dx + dy * dy), 0.0, 1.0)
-        out = np.minimum(out, np.hypot(cx - ax - t * dx, cy - ay - t * dy) - r - robot_radius)
+        out = np.minimum(out, np.hypot(cx - ax - t * dx, cy - ay - t * dy) - min(r, ACROSS) - robot_radius)
     return out
 
 

@@ -72,7 +72,7 @@ def test_someone_at_arms_length_stops_every_motion_turning_and_away_included():
     assert g.judge(Twist(0.0, -0.1, 0.0), 10.0) == Twist(0.0, -0.1, 0.0)
 
 
-def test_someone_passing_close_by_counts_as_there_already_but_not_someone_walking_into_the_robot():
+def test_someone_passing_close_by_or_walking_into_the_robot_counts_as_there_already():
     passing = Person(1, 0.15, 0.66, -0.8, 0.0, 0.2, 0.9)  # 0.26 m off, crossing to 0.24 m beside it at 0.8 m/s
     g = guard(passing)
     assert g.verdict.action == NONE
@@ -81,8 +81,10 @@ def test_someone_passing_close_by_counts_as_there_already_but_not_someone_walkin
     assert guard(going).judge(Twist(-0.1, 0.0, 0.0), 5.0) == Twist(-0.1, 0.0, 0.0)
     coming = Person(1, 0.0, 0.82, 0.0, -0.8, 0.2, 0.9)  # 0.40 m beside, walking straight at it
     g = guard(coming)
-    assert g.judge(Twist(0.0, -0.1, 0.0), 5.0) == Twist(0.0, -0.1, 0.0)  # out of their way: yes
-    assert speed(g.judge(Twist(0.0, 0.1, 0.0), 5.0)) == pytest.approx(0.0)  # towards them: never
+    assert g.judge(Twist(0.0, -0.1, 0.0), 5.0) == Twist(0.0, 0.0, 0.0)  # too late to step aside: stand
+    assert g.verdict.action == STILL
+    g = guard(Person(1, 0.0, 1.62, 0.0, -0.8, 0.2, 0.9))  # 1.2 m off: out of their way, yes
+    assert g.judge(Twist(0.0, -0.1, 0.0), 5.0) == Twist(0.0, -0.1, 0.0)
     past = Person(1, 0.53, 0.6, 0.0, -0.8, 0.2, 0.9)  # closing fast, but their walk passes 0.11 m beside it
     g = guard(past)
     assert g.judge(Twist(0.0, -0.1, 0.0), 5.0) == Twist(0.0, 0.0, 0.0) and g.verdict.action == STILL
