@@ -36,9 +36,8 @@ collision monitor's holds count together against ``blocked_wait``; past it the g
 ``blocked`` and the patrol comes back to the pot after the others (a bounded wait, then retry).
 A person's keep-out reaches along their next ``predict_time`` s of walking, and while the robot
 stands inside it (a walker who does not yield is coming) it does not just stand there: it steps
-out of the way (``nav.people_nearby``), sideways to a walker's way or away from someone standing,
-along the first direction of a fan the local costmap without people keeps free, never towards
-them. While it waits for a person it keeps the wider ``wait_clearance`` (1 m) the same way: it
+out of the way (``nav.people_nearby``) to the nearest place out of everyone's way
+(``nav.refuge``), never across a walker's way, and stands where there is none. While it waits for a person it keeps the wider ``wait_clearance`` (1 m) the same way: it
 waits at a distance, and a grower who stopped for it gets room to come by; a grower the
 collision monitor holds it for is stepped back from the same way, not pressed on. A robot in the
 lane of someone walking its way (their next ``lane_time`` s) steps out while they are metres
