@@ -19,8 +19,11 @@ at most of the pot it finished as it died.
 A robot drops out when its liveliness goes (the roster; away ``LOST_AFTER`` s), when its e-stop is
 held longer than ``fleet.handover_after`` s of its own clock while another robot could go on
 (a fleet e-stop, every robot stopped, hands nothing over: ``resume`` goes on where they were),
-or when its battery is low. A robot still up is sent ``mission_abort`` (its report then ends
-``aborted``); its unfinished pots (assigned and not ``inspected`` in its last report) are split
+or when its battery runs low. A robot stopped is sent ``mission_abort`` (its report then ends
+``aborted``). A robot whose battery runs low is not: its own patrol takes it home (``battery_low``,
+mission.patrol.tree: power low, or the energy budget's charge too short for the pots left) and
+its pots go once that patrol has ended so; aborted, it would stand flat where it was, in an aisle
+perhaps. Its unfinished pots (assigned and not ``inspected`` in its last report) are split
 between the others that are up and not stopped, from their docks, and each gets its share as a
 *further patrol* once its current one has ended (a running patrol cannot take more pots; each
 patrol ends at its dock, so the split from the docks is the right one). The dispatcher is done
@@ -230,6 +233,8 @@ class Dispatcher:
                 m.reports.append(m.current)
                 m.current, m.on_patrol = None, False
                 self.say(f"{m.name}: patrol {m.reports[-1]['outcome']}, {len(m.inspected())}/{len(m.assigned)} pots inspected")
+                if m.reports[-1]["outcome"] == "battery_low" and set(m.assigned) - m.inspected():
+                    self._drop(m, "battery_low")
                 return
         if v.connected and v.estop_engaged:
             m.estop_since = v.t if m.estop_since is None else m.estop_since
@@ -237,8 +242,6 @@ class Dispatcher:
                 self._drop(m, "estop")
         else:
             m.estop_since = None
-        if m.out is None and v.connected and v.battery_low:
-            self._drop(m, "battery_low")
 
     def _fetch(self, m: Member) -> None:
         m.fetched_at = self.clock()
@@ -256,7 +259,7 @@ class Dispatcher:
     # --- handing over ------------------------------------------------------------------------
     def _drop(self, m: Member, why: str) -> None:
         m.out = why
-        if why != "liveliness":
+        if why != "liveliness" and m.on_patrol:
             m.client.send("mission_abort")
             deadline = self.clock() + self.timeout
             while self.clock() < deadline:  # its report, finished as aborted

@@ -186,6 +186,21 @@ def test_a_robot_stopped_longer_than_handover_after_hands_its_pots_over(router, 
 
 
 @pytest.mark.slow
+def test_a_robot_whose_battery_runs_low_goes_home_and_hands_its_pots_over(router, certs, greenhouse, robots, tmp_path):
+    d = Dispatch(router, certs, greenhouse, tmp_path / "fleet")
+    r2 = robots["r2"].service
+    assert wait_for(lambda: r2.run is not None and r2.run.tree.mission.pots, 300), d.lines
+    r2.robot.power.monitor.forced_voltage = 10.5  # below 11.1 V: power low 20 s of its clock later
+    summary = d.wait()
+    got, r1 = summary["robots"]["r2"], summary["robots"]["r1"]
+    assert got["handover_reason"] == "battery_low" and got["outcome"] == "battery_low" and got["handed_over"]
+    assert sorted(got["done"] + got["handed_over"]) == sorted(got["assigned"])
+    assert [(h["from"], h["to"], h["why"]) for h in summary["handovers"]] == [("r2", "r1", "battery_low")]
+    assert sorted(r1["received"]) == sorted(got["handed_over"]) and set(got["handed_over"]) <= set(r1["done"])
+    assert summary["complete"]
+
+
+@pytest.mark.slow
 def test_a_fleet_estop_stops_every_robot_hands_nothing_over_and_resume_restarts_them_all(router, certs, greenhouse,
                                                                                       robots, tmp_path):
     fleet = {n: r.service for n, r in robots.items()}
