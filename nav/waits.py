@@ -19,6 +19,8 @@ log = logging.getLogger("nav.navigator")
 
 #: Why the goal holds while the robot steps out of a walker's lane (``waiting_for``).
 LANE = "out of a walker's way"
+ROBOT_LANE = "out of a robot's way"
+"""The same for a track on another robot of the fleet (``_whom``)."""
 
 
 class Waits:
@@ -58,9 +60,9 @@ class Waits:
         True while waiting (zero twist published) or when the wait ran out."""
         why = ""
         if self._person_blocks:
-            why = "a person in the only way"
+            why = f"{self._whom()} in the only way"
         elif self.people.in_keep_out(self.goal.x, self.goal.y):
-            why = "a person at the goal"
+            why = f"{self._whom()} at the goal"
         if why != self.waiting_for:
             if why:
                 log.info("waiting: %s", why)
@@ -77,13 +79,22 @@ class Waits:
         (``nav.people_nearby``); True while stepping (or when the wait ran out)."""
         if not self.people.in_lane(self.io.odom_pose()):
             return False
-        if self.waiting_for != LANE:
-            log.info("waiting: %s", LANE)
-            self.waiting_for = LANE
+        why = LANE if self._whom() == "a person" else ROBOT_LANE
+        if self.waiting_for != why:
+            log.info("waiting: %s", why)
+            self.waiting_for = why
         self.smoother.reset()
-        if not self._hold(now, dt, LANE, self.config.navigator.person_wait):
+        if not self._hold(now, dt, why, self.config.navigator.person_wait):
             self.io.publish(self._evade(reach=self.people.layer.lane_time), now)
         return True
+
+    def _whom(self) -> str:
+        """Who a wait for people waits for, in its words: "a robot" when everyone counted stands
+        near where another robot of the fleet says it is (``nav.costmap.robots.PEER_REACH``)."""
+        people, robots = self.people.in_map(), self.global_costmap.robots
+        if people and robots is not None and all(robots.near(float(a[0]), float(a[1])) for a, _, _ in people):
+            return "a robot"
+        return "a person"
 
     def _person_close(self) -> bool:
         """Is the robot itself inside a person's keep-out (they came to it, or are coming)?"""

@@ -33,6 +33,14 @@ from nav.costmap.people import PersonLayer
 from nav.grid_geometry import GridGeometry
 
 
+PEER_REACH = 1.0
+"""A person the robot waits for who stands this near another robot's told pose is taken for that
+robot in the wait's words (``nav.waits``), m: the people tracker drops tracks within 0.45 m of
+one (``mission.runtime.people.ROBOT_REACH``), yet on ``fleet.handover_small`` robots still waited
+"out of a walker's way" with no one in the greenhouse: each robot's pose is its own SLAM
+belief composed with its dock, and two robots' beliefs part by tenths of a metre."""
+
+
 @dataclass(frozen=True)
 class Peer:
     """Another robot of the fleet, where it last said it was."""
@@ -65,6 +73,10 @@ class RobotsLayer:
     def _bodies(self) -> list[Person]:
         """Each peer as a standing body of the footprint's radius (the person layer's shape)."""
         return [Person(k, p.x, p.y, 0.0, 0.0, self.robot_radius, 1.0) for k, p in enumerate(self.peers())]
+
+    def near(self, x: float, y: float, reach: float = PEER_REACH) -> bool:
+        """Does another robot of the fleet say it stands within ``reach`` of map point (x, y)?"""
+        return any(np.hypot(p.x - x, p.y - y) <= reach for p in self.peers())
 
     def apply(self, master: np.ndarray, geometry: GridGeometry) -> np.ndarray:
         """``master`` with every peer's costs over it; the same array with no peers about."""

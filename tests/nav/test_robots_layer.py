@@ -9,6 +9,7 @@ import math
 import numpy as np
 
 from hw.odometry import Pose2D
+from hw.people import Person
 from nav.config import NavConfig
 from nav.costmap.grid import LETHAL
 from nav.costmap.layered import global_costmap, local_costmap
@@ -70,3 +71,18 @@ def test_the_planner_goes_round_a_robot_in_the_way_and_without_people_it_is_gone
     assert np.hypot(path[:, 0], path[:, 1]).min() >= KEEP_OUT - 0.05  # never inside its keep-out
     free = cm.without_people()
     assert cost(cm, 0.0, 0.0) == LETHAL and free.cost_at(np.array([0.0]), np.array([0.0]))[0] == 0
+
+
+def test_a_wait_for_a_track_on_another_robot_says_it_waits_for_a_robot_and_for_a_person_otherwise():
+    from tests.nav.test_navigator_people import GOAL, IN_THE_AISLE, START, Rig
+
+    walker = Person(12, START.x + 3.0, START.y, -1.0, 0.0, 0.2, 0.9)  # 3 m ahead, coming at it
+    for robot in (False, True):
+        lane, aisle = Rig([walker]), Rig([IN_THE_AISLE])
+        for rig, track in ((lane, walker), (aisle, IN_THE_AISLE)):  # the track on r2, its pose told 0.6 m off
+            rig.glob.robots.peers = (lambda t=track: [Peer("r2", t.x + 0.6, t.y, 0.0)]) if robot else no_peers
+            rig.nav.navigate_to(GOAL, 0.0, timeout=8.0)
+        lane.run(0.5)
+        aisle.run(2.0)
+        assert lane.nav.waiting_for == ("out of a robot's way" if robot else "out of a walker's way")
+        assert aisle.nav.waiting_for == ("a robot" if robot else "a person") + " in the only way"
