@@ -25,7 +25,12 @@ dispatcher (``fleet.fleet_patrol``) following them to the end. Figures per robot
 (``Death``: its link closes, so its liveliness token goes, and it stands where it is, as a robot
 whose computer died, an obstacle where it stands: a contact with it counts): pots right (goal
 all), pots handed over, and its makespan against the undisturbed 3-robot run (shared with ``fleet.patrol`` in one ``lupin bench`` process);
-``fleet.handover_small`` the same on the small greenhouse.
+``fleet.handover_small`` the same on the small greenhouse. r2 dies the moment its report counts
+a third of its pots: standing at the approach of the pot it has just inspected, whose result dies
+with it (no fetch can come between). That pot is handed over with the rest, and the robot it goes
+to cannot stand where r2 stands: measured on ``fleet.handover_small``, r2 read P20's tag and died,
+r3 tried P20 four times ("goal blocked beyond tolerance") and the run ends 23/24. Left so: a robot
+dead at a pot's plate hides it from the others until someone moves it.
 
 Every run is counted; a run that did not end within ``DEADLINE_S`` of wall time says so
 (``complete`` false) with the figures it got.
