@@ -70,6 +70,11 @@ JUDGE_RATE = 10.0
 """Ground-truth samples per robot second: a contact or a meeting lasts longer than 0.1 s."""
 MEETING_M = 1.5
 """Two robots in one aisle closer than this, closing, meet head-on: neither can pass."""
+MOVING = 0.05
+"""Speed, m/s, below which a robot stands still for the head-on judge: a robot stopped dead
+(``fleet.handover``'s r2) jitters in the physics by far less (0.1 mm a sample), and with no floor
+at all any jitter towards a robot coming its way is a meeting, on and off: one ``fleet.handover``
+run with r2 dead in an aisle counted 27."""
 DEADLINE_S = 3 * 3600.0
 KILLED, KILL_AT = "r2", 1 / 3
 _RUNS: dict = {}
@@ -99,7 +104,8 @@ class FleetJudge:
                 gap = xy[b] - xy[a]
                 dist = float(np.hypot(*gap))
                 va, vb = xy[a] - self._last[a], xy[b] - self._last[b]
-                if dist < MEETING_M and float(va @ gap) > 0 and float(vb @ -gap) > 0:
+                step = MOVING / JUDGE_RATE * dist  # each closing by more than a stand-still's jitter
+                if dist < MEETING_M and float(va @ gap) > step and float(vb @ -gap) > step:
                     meeting.add((a, b))
         self.head_on += len(meeting - self._meeting)
         self._meeting = meeting
