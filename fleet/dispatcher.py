@@ -108,7 +108,13 @@ class Member:
     handed_over: list[str] = field(default_factory=list)
     t0: float | None = None
     t_end: float | None = None
-    estop_since: float | None = None
+    estop_at: float | None = None
+    """Its clock when its e-stop was last seen held (None: released)."""
+    estop_alone: float = 0.0
+    """Seconds of its clock its e-stop has been held while another robot could go on: a fleet
+    e-stop counts nothing, nor its release, seen on one robot's telemetry a beat before another's
+    (at load the fleet e-stop test's r2, stopped 30 s, was handed over at the resume: by all signs
+    r1's release showed on its telemetry before r2's, and the whole stop counted)."""
     fetched_at: float = float("-inf")
     absent_since: float | None = None
     part: set[str] = field(default_factory=set)
@@ -237,11 +243,13 @@ class Dispatcher:
                     self._drop(m, "battery_low")
                 return
         if v.connected and v.estop_engaged:
-            m.estop_since = v.t if m.estop_since is None else m.estop_since
-            if v.t - m.estop_since > self.handover_after and self._takers(m):
+            if m.estop_at is not None and self._takers(m):  # stopped while another robot could go on
+                m.estop_alone += max(v.t - m.estop_at, 0.0)
+            m.estop_at = v.t
+            if m.estop_alone > self.handover_after:
                 self._drop(m, "estop")
         else:
-            m.estop_since = None
+            m.estop_at, m.estop_alone = None, 0.0
 
     def _fetch(self, m: Member) -> None:
         m.fetched_at = self.clock()
