@@ -22,14 +22,11 @@ from hw.people import Person, PeopleSource
 from nav.config import NavConfig
 from nav.costmap.grid import CostGrid
 from nav.frames import transform_points
-from nav.refuge import refuge_heading
+from nav.refuge import TOUCH, refuge_heading  # TOUCH: also ``in_lane``'s margin within ``wait_clearance``
 
 #: Speed of a step out of a person's way within ``wait_clearance`` (1 m) of them, m/s: issue
 #: 28's most within 1.0 m of a person (farther off, the layer's faster ``step_speed``).
 NEAR_SPEED = 0.15
-#: A walk that passes nearer than this to the robot's body would touch it, m: a few tracker
-#: jitters (``in_lane`` within ``wait_clearance``).
-TOUCH = 0.05
 #: A person faster than this is walking somewhere (their way is a lane, ``nav.refuge``), m/s.
 WALKING = 0.2
 #: A person faster than this strides along their walk: their heading is remembered (``walks``)

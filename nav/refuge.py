@@ -18,8 +18,8 @@ nearest by path whose centre is
 
 The way there keeps ``clearance`` less ``TOUCH`` from everyone (or, with someone come nearer, no
 nearer than they are now), and never goes deeper into a walker's lane than the robot stands: out
-of it on its own side, or on along it, never across in front of them. A robot already standing in the best such place stays; with no such place in
-reach it stands still (standing, a walker who does not yield walks into it, which the judges
+of it on its own side, or on along it, never across in front of them. A robot already standing
+in the best such place stays; with no such place in reach it stands still (standing, a walker who does not yield walks into it, which the judges
 count apart: moving into them is the robot's doing).
 """
 from __future__ import annotations
@@ -29,9 +29,9 @@ import numpy as np
 from nav.costmap.grid import CostGrid
 from nav.planner import NEUTRAL, OBSTACLE, POT_HIGH, crossing_costs, descend, propagate
 
-#: A walk passing nearer than this to the robot's body would touch it, m (``nav.people_nearby``).
+#: A walk passing nearer than this to the robot's body would touch it, m: a few tracker jitters.
 TOUCH = 0.05
-#: Room kept round a person's body on the way to a refuge, and past ``clearance`` at one, m.
+#: Past ``clearance``, the least room to everyone a refuge has when none in reach has ``want``, m.
 MARGIN = 0.1
 #: The step heads for the point this far along the way to the refuge, m.
 LOOK = 0.3
