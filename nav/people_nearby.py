@@ -51,12 +51,12 @@ class PeopleNearby:
         return people
 
     def walks(self, people: list[Person]) -> np.ndarray:
-        """(P, 5) rows of x, y, vx, vy, radius, odom frame, with someone standing still given the
-        velocity of their last walk (``nav.refuge`` keeps out of their lane): a cart pusher pausing at
-        the end of a cross aisle turns and walks it again (safety.people seed 4: the robot took the
+        """(P, 5) rows of x, y, vx, vy, radius, odom frame, of ``people`` as ``counted`` last read
+        them (it stored each strider's velocity as it is), with someone slower given the velocity
+        of their last walk (``nav.refuge`` keeps out of their lane): a cart pusher pausing at the
+        end of a cross aisle turns and walks it again (safety.people seed 4: the robot took the
         paused cart's aisle for a place to wait in, and was in its way when it came back)."""
-        return np.array([[p.x, p.y, *((p.vx, p.vy) if math.hypot(p.vx, p.vy) > STRIDING else self._walks.get(p.id, (p.vx, p.vy))),
-                          p.radius] for p in people], dtype=float)
+        return np.array([[p.x, p.y, *self._walks.get(p.id, (p.vx, p.vy)), p.radius] for p in people], dtype=float)
 
     def keep_out(self, person: Person, clearance: float | None = None) -> float:
         """Centre to centre, m: ``clearance`` (the layer's when None) body to body."""

@@ -19,8 +19,8 @@ log = logging.getLogger("nav.navigator")
 
 #: Why the goal holds while the robot steps out of a walker's lane (``waiting_for``).
 LANE = "out of a walker's way"
+#: The same for a track on another robot of the fleet (``_whom``).
 ROBOT_LANE = "out of a robot's way"
-"""The same for a track on another robot of the fleet (``_whom``)."""
 
 
 class Waits:
