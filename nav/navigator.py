@@ -21,9 +21,9 @@ e-stop was decorative until it did), publishes a zero twist on ``auto`` at once,
 drives zero from its next tick; after a release nothing restarts by itself: whoever sent the
 goal decides (ISO 13850 practice).
 
-Recovery when MPPI finds no valid control: clear the local costmap, back off slowly away from
-the nearest obstacle for ``backoff_time``, reset the controller and retry, at most
-``max_recoveries`` times per goal.
+Recovery when MPPI finds no valid control (``nav.recovery``): clear the local costmap, back off
+slowly away from the nearest obstacle for ``backoff_time``, reset the controller and retry, at
+most ``max_recoveries`` times per goal.
 
 People (issue 28 item 2: "the robot waits at a distance or goes round by another aisle; it does
 not squeeze by"): the costmaps' person layer makes NavFn go round by another aisle where there
@@ -50,7 +50,6 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass
-from enum import Enum
 from typing import Callable, Optional, Protocol
 
 import numpy as np
@@ -60,6 +59,8 @@ from hw.odometry import Pose2D
 from hw.people import PeopleSource, nobody
 from nav.config import NavConfig
 from nav.people_nearby import PeopleNearby
+from nav.goal_state import State  # noqa: F401  (the goal's states, for callers too)
+from nav.recovery import Recovery
 from nav.waits import LANE, Waits  # noqa: F401  (LANE: the reason the goal holds, for callers)
 from nav.costmap.grid import INSCRIBED, UNKNOWN, CostGrid
 from nav.frames import compose, distance, inverse, transform_path, transform_points
@@ -72,17 +73,6 @@ from nav.smoother import VelocitySmoother
 
 log = logging.getLogger(__name__)
 
-
-class State(str, Enum):
-    IDLE = "idle"
-    FOLLOWING = "following"
-    RECOVERING = "recovering"
-    SUCCEEDED = "succeeded"
-    FAILED = "failed"
-    CANCELED = "canceled"
-
-
-TERMINAL = (State.SUCCEEDED, State.FAILED, State.CANCELED)
 
 #: Least time between two replans triggered by a blocked path or a failed plan (the 1 Hz replan still runs): a
 #: plan the local costmap disagrees with is redone at once, but not on every 50 ms control tick.
@@ -144,7 +134,7 @@ class Sources:
     """The person tracker's people, ``odom`` frame (the costmaps' person layers read the same)."""
 
 
-class Navigator(Waits):
+class Navigator(Waits, Recovery):
     def __init__(self, config: NavConfig, sources: Sources, localisation: Localisation,
                  local_costmap: Costmap, global_costmap: Costmap, planner: Planner, controller: Controller,
                  readiness: Readiness | None = None):
@@ -398,49 +388,6 @@ class Navigator(Waits):
         pts = transform_points(odom_from_map, self.path)
         cost = grid.cost_at(pts[:, 0], pts[:, 1], outside=0)
         return bool(np.any((cost >= INSCRIBED) & (cost != UNKNOWN)))
-
-    def _start_recovery(self, now: float, why: str) -> None:
-        if self._recoveries >= self.config.navigator.max_recoveries:
-            self._finish(State.FAILED, f"no valid control after {self._recoveries} recoveries ({why})", now)
-            return
-        self._recoveries += 1
-        log.info("recovery %d: %s; clearing the local costmap and backing off", self._recoveries, why)
-        self._backoff = self._backoff_twist()
-        self.local_costmap.clear()
-        self.smoother.reset()
-        self._backoff_until = now + self.config.navigator.backoff_time
-        self._checkpoint = None
-        self.state = State.RECOVERING
-        self.io.publish(ZERO_TWIST, now)
-
-    def _recover(self, now: float, dt: float) -> None:
-        if now < self._backoff_until:
-            self.io.publish(self.smoother.smooth(self._backoff, dt), now)
-            return
-        self.controller.reset()
-        self.smoother.reset()
-        self.state = State.FOLLOWING
-        self.io.publish(ZERO_TWIST, now)
-
-    def _backoff_twist(self) -> Twist:
-        """Body-frame velocity away from the nearest obstacle cells in the local costmap (the
-        base is holonomic, so 'back off' means away from what is closest, not just reverse)."""
-        grid = self.local_costmap.grid
-        odom = self.io.odom_pose()
-        iy, ix = np.nonzero((grid.data >= INSCRIBED) & (grid.data != UNKNOWN))
-        speed = self.config.navigator.backoff_speed
-        if len(ix) == 0:
-            return Twist(-speed, 0.0, 0.0)
-        wx, wy = grid.geometry.centre_of(ix, iy)
-        d = np.hypot(wx - odom.x, wy - odom.y)
-        near = d <= d.min() + 0.15
-        away = np.array([odom.x - wx[near].mean(), odom.y - wy[near].mean()])
-        n = float(np.hypot(*away))
-        if n < 1e-6:
-            return Twist(-speed, 0.0, 0.0)
-        c, s = math.cos(odom.yaw), math.sin(odom.yaw)
-        bx, by = c * away[0] + s * away[1], -s * away[0] + c * away[1]
-        return Twist(speed * bx / n, speed * by / n, 0.0)
 
     def _remaining(self) -> float:
         if self.goal is None:
