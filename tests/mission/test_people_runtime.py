@@ -11,7 +11,7 @@ import numpy as np
 
 from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
-from mission.runtime.people import LEG_SCANS, LEGS_SEEN, People, first_and_structure
+from mission.runtime.people import LEG_SCANS, LEGS_SEEN, People, first_and_structure, without
 from nav.occupancy import OccupancyMap
 from perception.people.config import PeopleConfig
 from tests.perception.people.synthetic import POT_RADIUS, greenhouse, mapped
@@ -112,6 +112,27 @@ def test_structure_is_what_is_longer_than_a_person_plus_the_first_map():
     assert at(4.0, 0.0) and at(0.0, 2.5)  # walls
     assert not at(*WORKER)  # the worker's blob
     assert at(6.0, 1.0)  # the first map's
+
+
+def test_a_person_shown_standing_against_a_wall_is_not_taken_in_with_it():
+    """A worker paused 5 cm from the east wall is one long component with it in SLAM's map; cut
+    out where a person is shown, the wall is still structure and the worker is not."""
+    walls, _ = scene()
+    first = OccupancyMap(np.zeros_like(mapped(walls).occupancy), 0.05, -0.1, -0.1)
+    worker = (7.7, 2.5)
+    live = with_cells(mapped(walls), *worker, 0.15)
+    g = live.geometry
+
+    def at(taken, x, y):
+        ix, iy = g.cell_of(x, y)
+        return bool(taken[iy, ix])
+    merged = first_and_structure(first, live, PeopleConfig().max_extent)
+    assert at(merged, *worker)  # the wall took the worker in
+    cut = without(live, [(*worker, 0.2)], PeopleConfig().margin)
+    taken = first_and_structure(first, live, PeopleConfig().max_extent, structure=cut)
+    assert not at(taken, *worker) and not at(taken, worker[0] + 0.12, worker[1])
+    assert at(taken, 8.0, 1.0) and at(taken, 8.0, 4.0)  # the wall either side of them still is
+    assert without(live, [], 0.1) is live
 
 
 def test_the_rules_act_on_a_track_once_it_has_walked_and_on_while_it_stands():
