@@ -150,6 +150,8 @@ class People:
         self._left: np.ndarray | None = None
         """The first map's occupied cells a later map saw free: someone who stood there left."""
         self._live: OccupancyMap | None = None
+        self._floor: np.ndarray | None = None
+        """The live map's cells any map so far saw free: floor, which a person may stand on."""
 
     def current(self) -> Sequence[Person]:
         """The ``hw.people.PeopleSource`` every consumer holds."""
@@ -161,7 +163,7 @@ class People:
         tracks that have walked), for the report."""
         self._pots = np.asarray(pots_xy, dtype=float).reshape(-1, 2)
         self._pot_radius = pot_radius
-        self.scene, self._first, self._live = None, None, None
+        self.scene, self._first, self._live, self._floor = None, None, None, None
         return self.confident
 
     def confident(self) -> Sequence[Person]:
@@ -194,9 +196,10 @@ class People:
         if live is not self._live and live is not None:
             if self._first is None:
                 self._first, self._left = live, np.zeros(live.occupancy.shape, bool)
+            self._floor = floor_seen(live, self._floor, None if self._live is None else self._live.geometry)
             self._live = live
             self._left |= self._first.occupied() & seen_free(live, self._first.geometry, self.config.margin)
-            structure = without(live, self._shown_in_map(), self.config.margin)
+            structure = without(live, self._shown_in_map(), self.config.margin, self._floor)
             cells = Cells(live.geometry, first_and_structure(self._first, live, self.config.max_extent, self._left,
                                                              structure=structure))
             self.scene = StaticScene(cells, self._pots, self._pot_radius, self.config.margin)
@@ -300,14 +303,25 @@ def first_and_structure(first: OccupancyMap, live: OccupancyMap, max_extent: flo
     return long_components(structure or live, max_extent, gap) | paste(kept, first.geometry, live.geometry, False)
 
 
-def without(live: OccupancyMap, people: Sequence[tuple[float, float, float]], margin: float) -> OccupancyMap:
+def floor_seen(live: OccupancyMap, before: np.ndarray | None, on: GridGeometry | None) -> np.ndarray:
+    """On ``live``'s grid: the cells ``live`` sees free, and those ``before`` (on the grid ``on``)
+    saw free: where a person can stand, which a wall never was."""
+    seen = (live.occupancy >= FREE) & (live.occupancy <= FREE_MAX)
+    return seen if before is None else seen | paste(before, on, live.geometry, False)
+
+
+def without(live: OccupancyMap, people: Sequence[tuple[float, float, float]], margin: float,
+            floor: np.ndarray | None = None) -> OccupancyMap:
     """``live`` with the cells within radius + ``margin`` of each person (x, y, radius; map frame)
-    made unknown: what the structure is read from. SLAM writes in a person who stands still, and a
+    made unknown, of those seen free before (``floor``, on ``live``'s grid; all when None): what
+    the structure is read from. SLAM writes in a person who stands still, and a
     worker standing within a gap's closing (0.1 m) of a wall, a bench or their own cart pushed
     against one became part of that long component, so explained, so no longer a person: the
     robot drove past a grower paused at the end of a cross aisle at 0.15 m (safety.people seed 3,
     773-779 s), whose cart then turned back through it. A person being followed is never taken
-    for the greenhouse; once they are gone, their cells join whatever they touch again."""
+    for the greenhouse; once they are gone, their cells join whatever they touch again. Only
+    floor is cut: a false track on a wall (its seen centre shifting as the robot drives by) would
+    otherwise keep that wall from ever being explained, and so itself alive, for good."""
     if not people:
         return live
     mask = np.zeros(live.occupancy.shape, np.uint8)
@@ -316,7 +330,7 @@ def without(live: OccupancyMap, people: Sequence[tuple[float, float, float]], ma
         ix, iy = live.geometry.cell_of(x, y)
         cv2.circle(mask, (int(ix), int(iy)), int(np.ceil((r + margin) / res)), 1, -1)
     cut = live.occupancy.copy()
-    cut[mask.astype(bool)] = UNKNOWN
+    cut[mask.astype(bool) & (True if floor is None else floor)] = UNKNOWN
     return replace(live, occupancy=cut)
 
 

@@ -11,7 +11,7 @@ import numpy as np
 
 from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
-from mission.runtime.people import LEG_SCANS, LEGS_SEEN, People, first_and_structure, without
+from mission.runtime.people import LEG_SCANS, LEGS_SEEN, People, first_and_structure, floor_seen, without
 from nav.occupancy import OccupancyMap
 from perception.people.config import PeopleConfig
 from tests.perception.people.synthetic import POT_RADIUS, greenhouse, mapped
@@ -128,11 +128,16 @@ def test_a_person_shown_standing_against_a_wall_is_not_taken_in_with_it():
         return bool(taken[iy, ix])
     merged = first_and_structure(first, live, PeopleConfig().max_extent)
     assert at(merged, *worker)  # the wall took the worker in
-    cut = without(live, [(*worker, 0.2)], PeopleConfig().margin)
+    floor = floor_seen(mapped(walls), None, None)  # the floor seen free before they stood there
+    cut = without(live, [(*worker, 0.2)], PeopleConfig().margin, floor)
     taken = first_and_structure(first, live, PeopleConfig().max_extent, structure=cut)
     assert not at(taken, *worker) and not at(taken, worker[0] + 0.12, worker[1])
-    assert at(taken, 8.0, 1.0) and at(taken, 8.0, 4.0)  # the wall either side of them still is
+    assert at(taken, 8.0, 2.5) and at(taken, 8.0, 1.0)  # the wall behind and beside them still is
     assert without(live, [], 0.1) is live
+    # a false track on the wall itself cuts nothing of it: the wall was never floor
+    on_wall = first_and_structure(first, live, PeopleConfig().max_extent,
+                                  structure=without(live, [(8.0, 1.0, 0.2)], PeopleConfig().margin, floor))
+    assert at(on_wall, 8.0, 1.0)
 
 
 def test_the_rules_act_on_a_track_once_it_has_walked_and_on_while_it_stands():
