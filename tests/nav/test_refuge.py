@@ -58,3 +58,26 @@ def test_a_robot_already_out_of_everyones_way_stays():
     rows = np.array([CART], dtype=float)
     assert refuge_heading(MOUTH + [0.3, 0.0], rows, _greenhouse(), RADIUS, LAYER.clearance, LAYER.clearance,
                           LAYER.lane_time, WALKING) is None
+
+
+def test_behind_a_walker_it_crosses_their_lane_to_a_refuge_beyond():
+    """safety.people seed 1: a grower stopped for the robot in their aisle (their last stride
+    towards it), the only refuge across the cross aisle a cart pusher walks; walking away, the
+    robot crosses behind them to wait beyond their lane; coming, it does not cross in front
+    (standing deep in the grower's lane once let the way go as deep into the cart's)."""
+    here = np.array([12.3, 2.5])
+    grid = CostGrid.filled(60, 60, 0.05, here[0] - 1.5, here[1] - 1.5)
+    iy, ix = np.mgrid[0:60, 0:60]
+    x, y = grid.geometry.centre_of(ix, iy)
+    grid.data[(x <= 12.1) & (np.abs(y - 2.5) > 0.2)] = LETHAL  # benches either side of the aisle, inflated
+    grid.data[x >= 13.78] = LETHAL  # the east wall, inflated
+    grower = (11.0, 2.5, 0.7, 0.0, 0.35)  # a cart, stopped: the velocity of their last stride
+    away = (12.75, 3.6, 0.0, 0.7, 0.35)  # the cross aisle's cart pusher, walking north, away
+
+    def heading(*people):
+        return refuge_heading(here, np.array(people, dtype=float), grid, RADIUS, LAYER.clearance,
+                              LAYER.wait_clearance, LAYER.lane_time, WALKING)
+    u = heading(grower, away)
+    assert u is not None and u[0] > 0.5  # east, across the cart's lane behind it
+    coming = (12.75, 3.6, 0.0, -0.7, 0.35)
+    assert heading(grower, coming) is None  # across its way ahead: wait in the aisle
