@@ -199,7 +199,7 @@ class People:
             self._floor = floor_seen(live, self._floor, None if self._live is None else self._live.geometry)
             self._live = live
             self._left |= self._first.occupied() & seen_free(live, self._first.geometry, self.config.margin)
-            structure = without(live, self._shown_in_map(), self.config.margin, self._floor)
+            structure = without(live, self._tracked_in_map(), self.config.margin, self._floor)
             cells = Cells(live.geometry, first_and_structure(self._first, live, self.config.max_extent, self._left,
                                                              structure=structure))
             self.scene = StaticScene(cells, self._pots, self._pot_radius, self.config.margin)
@@ -231,10 +231,13 @@ class People:
                             if not any(math.hypot(x - p.x, y - p.y) <= ROBOT_REACH for x, y in robots)
                             and (p.id in self.walked or p.id in self.inherited or self.legged(p.id)))
 
-    def _shown_in_map(self) -> list[tuple[float, float, float]]:
-        """The people shown now: (x, y, radius), map frame."""
+    def _tracked_in_map(self) -> list[tuple[float, float, float]]:
+        """Every track now, shown a person or not yet: (x, y, radius), map frame. Not only the
+        people shown: a grower with a cart who had stopped for the robot 0.15 m from a wall was
+        a track not yet shown again, and the next map took them in with the wall (safety.people
+        seed 2, 290 s: the robot went on to 0.13 m of the cart)."""
         m2o = self.map_to_odom()
-        return [(q.x, q.y, p.radius) for p in self._shown for q in [compose(m2o, Pose2D(p.x, p.y, 0.0))]]
+        return [(q.x, q.y, p.radius) for p in self.tracks for q in [compose(m2o, Pose2D(p.x, p.y, 0.0))]]
 
     def _robots_in_odom(self) -> list[tuple[float, float]]:
         """Where the fleet's other robots say they are, odom frame (a track within
@@ -298,7 +301,7 @@ def first_and_structure(first: OccupancyMap, live: OccupancyMap, max_extent: flo
     """On ``live``'s grid: the first map's occupied cells but those ``left`` (on the first map's
     grid: seen free since), and the structure (``nav.structure``: components whose bounding box's
     diagonal exceeds ``max_extent`` once gaps up to ``gap`` are closed) of ``structure``, a map on
-    ``live``'s grid (``live`` itself by default; the people shown cut out of it, ``without``)."""
+    ``live``'s grid (``live`` itself by default; the tracks cut out of it, ``without``)."""
     kept = first.occupied() if left is None else first.occupied() & ~left
     return long_components(structure or live, max_extent, gap) | paste(kept, first.geometry, live.geometry, False)
 
@@ -312,13 +315,13 @@ def floor_seen(live: OccupancyMap, before: np.ndarray | None, on: GridGeometry |
 
 def without(live: OccupancyMap, people: Sequence[tuple[float, float, float]], margin: float,
             floor: np.ndarray | None = None) -> OccupancyMap:
-    """``live`` with the cells within radius + ``margin`` of each person (x, y, radius; map frame)
+    """``live`` with the cells within radius + ``margin`` of each track (x, y, radius; map frame)
     made unknown, of those seen free before (``floor``, on ``live``'s grid; all when None): what
     the structure is read from. SLAM writes in a person who stands still, and a
     worker standing within a gap's closing (0.1 m) of a wall, a bench or their own cart pushed
     against one became part of that long component, so explained, so no longer a person: the
     robot drove past a grower paused at the end of a cross aisle at 0.15 m (safety.people seed 3,
-    773-779 s), whose cart then turned back through it. A person being followed is never taken
+    773-779 s), whose cart then turned back through it. Whatever is being tracked is never taken
     for the greenhouse; once they are gone, their cells join whatever they touch again. Only
     floor is cut: a false track on a wall (its seen centre shifting as the robot drives by) would
     otherwise keep that wall from ever being explained, and so itself alive, for good."""
