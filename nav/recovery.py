@@ -1,8 +1,12 @@
 """The goal's recovery when MPPI finds no valid control (``nav.navigator``): clear the local
 costmap, back off slowly away from the nearest obstacle for ``backoff_time``, reset the
 controller and retry, at most ``max_recoveries`` times per goal (Nav2's recovery behaviours,
-cut to the one this holonomic base needs). A mixin, so the navigator module stays the goal's
-life and these its detours, as ``nav.waits`` holds its pauses.
+cut to the one this holonomic base needs). With people about, the back-off is the step to the
+refuge out of everyone's way (``nav.refuge``, through ``nav.waits``), or standing still: a blind
+back-off away from the nearest lethal cells, a person's disc among them, took the robot 0.7 m
+diagonally into a cross aisle where a grower who does not yield was pausing, who walked into it
+(safety.people seed 1, 519-525 s). A mixin, so the navigator module stays the goal's life and
+these its detours, as ``nav.waits`` holds its pauses.
 """
 from __future__ import annotations
 
@@ -20,7 +24,7 @@ log = logging.getLogger("nav.navigator")
 
 class Recovery:
     """Mixed into ``nav.navigator.Navigator``: reads its ``io``, ``config``, ``local_costmap``,
-    ``smoother`` and ``controller``, and keeps its ``_recoveries``, ``_backoff`` and
+    ``smoother``, ``controller`` and ``people`` (and ``nav.waits``' ``_evade``), and keeps its ``_recoveries``, ``_backoff`` and
     ``_backoff_until``."""
 
     def _start_recovery(self, now: float, why: str) -> None:
@@ -39,7 +43,9 @@ class Recovery:
 
     def _recover(self, now: float, dt: float) -> None:
         if now < self._backoff_until:
-            self.io.publish(self.smoother.smooth(self._backoff, dt), now)
+            layer = self.people.layer
+            twist = self._evade(layer.wait_clearance, layer.lane_time) if self.people.counted() else self._backoff
+            self.io.publish(self.smoother.smooth(twist, dt), now)
             return
         self.controller.reset()
         self.smoother.reset()

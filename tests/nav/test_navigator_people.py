@@ -192,3 +192,18 @@ def test_a_person_the_monitor_holds_the_robot_for_is_stepped_back_from_not_press
     end = rig.run(CFG.navigator.person_wait + 5.0, t0=1.05)
     assert rig.nav.state is State.FAILED and rig.nav.reason.startswith("blocked: a person close by")
     assert end >= CFG.navigator.person_wait  # a person's wait, not the 15 s for a box
+
+
+def test_a_recovery_with_people_about_does_not_back_off_blindly():
+    """Backing off away from the nearest lethal cells, a person's disc among them, once took the
+    robot into a cross aisle a grower was pausing in (safety.people seed 1): with people about
+    the back-off is the refuge's step, here none (the robot stands out of everyone's way)."""
+    person = Person(15, START.x + 1.0, START.y + 1.6, 0.0, 0.0, 0.2, 0.9)  # 1.9 m off, standing
+    rig = Rig([person], controller=FakeController(fail=True))
+    rig.nav.navigate_to(GOAL, 0.0, timeout=60.0)
+    rig.run(3.0)
+    assert rig.local.clears >= 1 and rig.nav.state is State.RECOVERING
+    assert all(tw == ZERO_TWIST for _, tw in rig.published)
+    rig.people.clear()  # with nobody about, the back-off moves the robot again
+    rig.run(12.0, t0=3.05)
+    assert any(tw != ZERO_TWIST for _, tw in rig.published)
