@@ -3,7 +3,10 @@
 ``initialise`` hands the goal to the navigator (the goal is a callable, read when the attempt
 starts, so a retry re-reads it); ``update`` mirrors the navigator's state; ``terminate(INVALID)``
 (a timeout above it, an abort, the e-stop or pause guard) cancels the goal, so the
-``auto`` source stops publishing and the mux lets the wheels stop. The attempt's time limit is
+``auto`` source stops publishing and the mux lets the wheels stop; only while the leaf runs: a
+finished leaf that a selector clears later (py_trees stops the children before the one it
+remembers) would cancel the goal of whichever leaf drives now (a pot's look beside its taken
+approach pose, given up the moment it was set). The attempt's time limit is
 the ``Timeout`` decorator's, not the navigator's: the goal is given with no deadline of its own.
 """
 from __future__ import annotations
@@ -42,5 +45,5 @@ class NavigateTo(py_trees.behaviour.Behaviour):
         return Status.RUNNING
 
     def terminate(self, new_status: Status) -> None:
-        if new_status is Status.INVALID:
+        if new_status is Status.INVALID and self.status is Status.RUNNING:
             self.nav.cancel(self.clock.now(), f"{self.name} stopped")

@@ -5,8 +5,9 @@ The looks come from a callable, read when the search starts (the tree computes t
 as it is then); each is a goal for the navigator with a time limit of its own, and a look the
 robot cannot reach is passed over. After arriving, the frame must be taken ``settle`` seconds
 later (the base has stopped); every frame taken on the way is read too (a plate passed is a
-plate found). ``found(reads, robot)`` decides (and keeps what it needs); the search then succeeds. Out of looks, it fails, saying how many it tried. Stopping it cancels the
-goal it was driving to.
+plate found; ``on_the_way`` False: only frames taken standing at a look count, for a search that
+must end standing where it read). ``found(reads, robot)`` decides (and keeps what it needs); the search then succeeds. Out of looks, it fails, saying how many it tried. Stopping it cancels the
+goal it was driving to (only while it runs, as ``behaviours.navigate.NavigateTo``).
 """
 from __future__ import annotations
 
@@ -30,8 +31,9 @@ LOOK_TOLERANCE = 0.08
 class SearchTag(py_trees.behaviour.Behaviour):
     def __init__(self, name: str, nav: Navigator, looks: Callable[[], list[Pose2D]], camera: CameraPipeline,
                  reader: TagReader, found: Callable[[tuple[TagRead, ...], Pose2D], bool], clock: Clock,
-                 settle: float, look_timeout: float):
+                 settle: float, look_timeout: float, on_the_way: bool = True):
         super().__init__(name)
+        self.on_the_way = on_the_way
         self.nav, self.looks, self.camera, self.reader, self.found = nav, looks, camera, reader, found
         self.clock, self.settle, self.look_timeout = clock, settle, look_timeout
         self._left: list[Pose2D] = []
@@ -45,7 +47,7 @@ class SearchTag(py_trees.behaviour.Behaviour):
         self._next()
 
     def update(self) -> Status:
-        if self._read(self.camera.request()):
+        if self.on_the_way and self._read(self.camera.request()):
             self.nav.cancel(self.clock.now(), "found on the way")
             return Status.SUCCESS
         state = self.nav.state
@@ -60,12 +62,12 @@ class SearchTag(py_trees.behaviour.Behaviour):
         elif self.nav.active:
             return Status.RUNNING
         if not self._next():
-            self.feedback_message = f"not found from {self._tried} look(s)"
+            self.feedback_message = f"not found from {self._tried} look(s)" if self._tried else "no look where the robot fits"
             return Status.FAILURE
         return Status.RUNNING
 
     def terminate(self, new_status: Status) -> None:
-        if new_status is Status.INVALID:
+        if new_status is Status.INVALID and self.status is Status.RUNNING:
             self.nav.cancel(self.clock.now(), f"{self.name} stopped")
 
     def _read(self, frame) -> bool:

@@ -49,6 +49,10 @@ class PotVisit:
     """Step -> why it failed ('approach', 'search', 'arm', 'wrist', 'front')."""
     done: bool = False
     """The pot's branch has finished (inspected or failed) and been recorded."""
+    aside: str = ""
+    """Why the robot stood beside the approach pose instead, and where (empty: it stood there or
+    near): something else stood on it, and a look beside it read the pot's tag
+    (``mission.patrol.aside``)."""
     deferred: str = ""
     """Why its first go could not get there (empty: it did, or has not been tried): the patrol
     comes back to it after the other pots instead of failing it at once."""

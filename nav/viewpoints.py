@@ -114,18 +114,18 @@ def looks(pots: np.ndarray, costmap: CostGrid, standoff: float, slants: tuple[fl
     for i, (px, py) in enumerate(pots):
         for k in range(4):
             a = base + k * math.pi / 2
-            square = _look(px, py, a, i, costmap, standoff)
+            square = look_at(px, py, a, i, costmap, standoff)
             if square is not None:
                 out.append(square)
                 continue
             for hand in (1.0, -1.0):
-                slanted = next((v for s in slants if (v := _look(px, py, a + hand * s, i, costmap, standoff))), None)
+                slanted = next((v for s in slants if (v := look_at(px, py, a + hand * s, i, costmap, standoff))), None)
                 if slanted is not None:
                     out.append(slanted)
     return out
 
 
-def _look(px: float, py: float, a: float, pot: int, costmap: CostGrid, standoff: float) -> Look | None:
+def look_at(px: float, py: float, a: float, pot: int, costmap: CostGrid, standoff: float) -> Look | None:
     """The look at the pot at (px, py) from bearing ``a``, ``standoff`` out, if the robot fits there."""
     x, y = px + standoff * math.cos(a), py + standoff * math.sin(a)
     cost = int(costmap.cost_at(x, y))

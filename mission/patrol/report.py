@@ -9,6 +9,8 @@ kind                when
 ==================  ==========================================================================
 unreachable         every navigation attempt failed, after the others too; the pot is ``failed``
 retried_later       the first go could not get there (why), the go after the other pots did
+approach_blocked    something stood on the approach pose: inspected from a look beside it (why,
+                    and how far off; ``mission.patrol.aside``)
 arm_unavailable     the arm could not take the pot's inspection pose (latched servo, inactive
                     controller): the flower is unknown, the tag is still read
 no_image            a camera gave no fresh frame in time (the step is recorded without it)
@@ -106,6 +108,8 @@ class PatrolReport:
             anomalies.append(("unreachable", f"{visit.attempts} attempt(s): {visit.failures.get('approach', '')}"))
         elif visit.deferred:
             anomalies.append(("retried_later", f"inspected after the other pots; the first go: {visit.deferred}"))
+        if inspected and visit.aside:
+            anomalies.append(("approach_blocked", visit.aside))
         moved = _moved(pot, visit)
         if moved is not None:
             anomalies.append(("moved", moved.pop("detail")))

@@ -22,7 +22,10 @@
                 P01                                       OneShot: a finished pot is never redone
                   visit P01                                 Selector: inspect, or record it failed
                     inspect P01                               Sequence
-                      approach P01                              Retry(retries) > Timeout > NavigateTo
+                      get to P01                                Selector
+                        approach P01                              Retry(retries) > Timeout > NavigateTo
+                        beside P01                                its goal taken: the looks beside it
+                                                                  until one reads its tag
                       front camera P01                          ReadTags, or note no frame
                       find P01                                  Selector: a tag there, or search for it
                       moved P01                                 Selector: in place, or approach again
@@ -60,7 +63,9 @@ lets go of all; a robot alone has no gate and its tree is exactly the one above.
 Pots are found where they are (``mission.patrol.pot_finder``): the tag read at arrival places
 the pot; a pot off the mission's pose is approached again from where it is and reported
 ``moved``; with no tag where the pot should be, the pots the map shows nearby are looked at for
-it before it is ``not_found``.
+it before it is ``not_found``. A pot whose approach pose something else stands on (a robot that
+died there, a cart) is inspected from a look beside it that reads its tag
+(``mission.patrol.aside``).
 
 The pots run in legs out from the dock (``mission.patrol.legs``): before each pot the energy
 budget (``mission.patrol.energy``) checks that the pot and the way back leave the reserve on
@@ -97,6 +102,7 @@ from behaviours.visit import PotVisit
 from hw.interfaces import Clock
 from hw.odometry import Pose2D
 from mission.patrol.aisle_gate import RETRY, AisleGate
+from mission.patrol.aside import aside_detail, aside_looks
 from mission.patrol.config import PatrolConfig
 from mission.patrol.energy import EnergyBudget
 from mission.patrol.legs import LegLog, Legs, LegsSection
@@ -111,6 +117,7 @@ from nav.path_lengths import lengths_from, path_lengths
 from mission.patrol.report import PatrolReport
 from mission.runtime.heal import heal_controllers
 from mission.runtime.robot import Robot
+from nav.costmap.grid import INSCRIBED, UNKNOWN
 from nav.frames import distance
 from nav.navigator import Navigator
 from perception.camera_pipeline import CameraPipeline
@@ -321,9 +328,10 @@ class PatrolTree:
         front = read_front("front camera")
         find = self._find(pot, visit)
         def in_place() -> bool:
-            """Not moved, and the robot stopped close enough to its approach pose for the wrist."""
+            """Not moved, and the robot stopped close enough to its approach pose for the wrist; or
+            it stands beside a taken approach pose, where it read the tag (the wrist aims from there)."""
             off = distance(self.nav.map_pose(), self.approach_goal(pot)) if visit.arrived is not None else 0.0
-            return not visit.moved and off <= c.moved_approach_xy * 1.5
+            return bool(visit.aside) or (not visit.moved and off <= c.moved_approach_xy * 1.5)
 
         again = Selector(f"approach again {pot.id}", memory=True, children=[
             self._timed(NavigateTo(f"approach closely {pot.id}", self.nav, lambda: self.approach_goal(pot), clock,
@@ -344,12 +352,14 @@ class PatrolTree:
                 visit.failures["wrist"] = why(look)
 
         def pot_failed() -> None:
+            reason = "; ".join(taken) or why(approach)
+            taken.clear()
             if not later and "search" not in visit.failures:
-                visit.deferred, visit.arrived = why(approach), None
+                visit.deferred, visit.arrived, visit.aside = reason, None, ""
                 visit.failures.clear()
                 return
             if "search" not in visit.failures:
-                visit.failures.setdefault("approach", why(approach))
+                visit.failures.setdefault("approach", reason)
             if not visit.done:
                 self.report.record(pot, visit, self.approach_goal(pot))
 
@@ -357,14 +367,54 @@ class PatrolTree:
             Sequence(f"look {pot.id}", memory=True, children=[inspect, look]), Do(f"wrist {pot.id}: note failure", note_wrist)])
         record = Do(f"record {pot.id}", lambda: self.report.record(pot, visit, self.approach_goal(pot)))
         stow = self._or_note(f"stow arm {pot.id}", self._arm(f"arm to travel {pot.id}", self._travel), fail("stow"))
+        taken: list[str] = []
+        """Why the approach failed, and why the looks beside its taken goal did (its leaves'
+        own words are gone once the selector above them moves on)."""
+        beside = self._beside(pot, visit, approach, taken)
         inspect_pot = Sequence(f"inspect {pot.id}", memory=True, children=[
-            approach, Do(f"arrived {pot.id}", arrived), front, find, moved, wrist, record, stow])
+            Selector(f"get to {pot.id}", memory=True, children=[approach, beside]),
+            Do(f"arrived {pot.id}", arrived), front, find, moved, wrist, record, stow])
         failed = Do(f"{pot.id} failed", pot_failed)
         branch = Selector(f"visit {pot.id}", memory=True, children=[inspect_pot, failed])
         if later:
             branch = Selector(f"{pot.id} later?", memory=True, children=[
                 Check(f"{pot.id} done", lambda: not visit.deferred or visit.done), branch])
         return OneShot(f"{pot.id} later" if later else pot.id, branch, OneShotPolicy.ON_COMPLETION)
+
+    def _beside(self, pot: MissionPot, visit: PotVisit, approach: Behaviour, taken: list[str]) -> Sequence:
+        """When the approach failed and something stands on its goal (its cell is inscribed or
+        lethal in the global costmap now): the looks beside it (``mission.patrol.aside``), until
+        one reads the pot's own tag standing there; the visit then says where it stood and why.
+        ``taken`` gets why the approach failed, and why the looks did."""
+        c, standoff = self.config, self.mission.standoff
+
+        def goal_taken() -> bool:
+            goal = self.approach_goal(pot)
+            taken[:] = [why(approach)]
+            return INSCRIBED <= int(self.nav.global_costmap.grid.cost_at(goal.x, goal.y)) < UNKNOWN
+
+        def looks() -> list[Pose2D]:
+            ideal = self.approach_goal(pot)
+            x, y = ideal.x + standoff * np.cos(ideal.yaw), ideal.y + standoff * np.sin(ideal.yaw)
+            return aside_looks(x, y, ideal.yaw + np.pi, standoff, self.nav.global_costmap.grid, self.nav.map_pose())
+
+        def found(reads, robot: Pose2D) -> bool:
+            ideal = self.approach_goal(pot)
+            if not self.finder.place(pot, visit, reads, robot, c.tag_max_distance):
+                return False
+            visit.aside = aside_detail(ideal, robot, taken[0])
+            return True
+
+        def not_seen() -> bool:
+            taken.append(f"its approach pose is taken, and the looks beside it did not read its tag ({why(timed)})")
+            return False
+
+        search = SearchTag(f"look beside {pot.id}", self.nav, looks, self.cameras["front"], self.tag_reader, found,
+                           self.clock, c.settle, c.search_look_timeout, on_the_way=False)
+        timed = self._timed(search, c.search_time)
+        return Sequence(f"beside {pot.id}", memory=True, children=[
+            Check(f"{pot.id} approach pose taken?", goal_taken),
+            Selector(f"look beside {pot.id}", memory=True, children=[timed, Check(f"{pot.id} not read beside", not_seen)])])
 
     def _find(self, pot: MissionPot, visit: PotVisit) -> Selector:
         """The pot's own tag placed the pot (or it has none to look for, or another tag is

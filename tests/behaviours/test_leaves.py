@@ -91,6 +91,19 @@ def test_retry_starts_a_fresh_attempt_after_a_failure():
     assert "no path" in root.decorated.feedback_message
 
 
+def test_a_failed_drive_cleared_later_by_its_selector_leaves_the_next_drive_alone():
+    """py_trees' selector with memory stops the children before the one it runs at its next tick:
+    the drive that failed must not cancel the goal the next child has just given."""
+    clock, nav = SimClock(), FakeNav()
+    first, second = NavigateTo("go", nav, lambda: Pose2D(0, 0, 0), clock), NavigateTo("beside", nav, lambda: Pose2D(1, 0, 0), clock)
+    root = Selector("get there", memory=True, children=[first, second])
+    tick_at(root, clock, 0.0)
+    nav.state, nav.reason = State.FAILED, "no path"
+    assert tick_at(root, clock, 0.1) is Status.RUNNING and nav.goals[-1][0] == Pose2D(1, 0, 0)
+    assert tick_at(root, clock, 0.2) is Status.RUNNING
+    assert first.status is Status.INVALID and nav.cancels == 0 and nav.state is State.FOLLOWING
+
+
 def test_navigate_succeeds_when_the_navigator_does():
     clock, nav = SimClock(), FakeNav()
     leaf = NavigateTo("go", nav, lambda: Pose2D(0, 0, 0), clock)
