@@ -13,7 +13,9 @@ of the plan and of MPPI's rollouts.
 Nothing is forgotten: a robot whose liveliness token went (its computer died, or it was switched
 off) still stands where it last said it was, an obstacle, until it is heard from again; a robot
 carried away is an obstacle where it stood until it speaks (a false obstacle costs a detour, a
-forgotten one a collision). Messages arrive on Zenoh's thread; the runtime reads a copy.
+forgotten one a collision). Not heard from for ``SILENT`` s of this robot's clock, it is
+``silent``: a robot that stands still there, kept out of by less (``nav.costmap.robots``).
+Messages arrive on Zenoh's thread; the runtime reads a copy.
 """
 from __future__ import annotations
 
@@ -35,6 +37,9 @@ log = logging.getLogger("lupin.link")
 WHERE = "lupin/*/where"
 RATE = 10.0
 """Poses put a second, Hz: the lidar's rate; a robot at 0.3 m/s moves 3 cm between two."""
+SILENT = 2.0
+"""Seconds (this robot's clock) without a pose from a robot before it counts as silent: twenty of
+its poses missed; a robot that lives puts one every 0.1 s."""
 TASK = "link.peers"
 
 
@@ -60,6 +65,11 @@ class Peers:
         self._lock = threading.Lock()
         self._last: dict[str, Pose2D] = {}
         """Each other robot's last pose, fleet frame."""
+        self._new: set[str] = set()
+        """The robots heard from since this robot last told its pose."""
+        self._heard: dict[str, float] = {}
+        """When (this robot's clock, to a tell) each other robot was last heard from."""
+        self._now = 0.0
         self._sub = session.declare_subscriber(WHERE, self._on_sample)
 
     def _on_sample(self, sample: zenoh.Sample) -> None:
@@ -68,9 +78,14 @@ class Peers:
         if robot != self.robot and pose is not None:
             with self._lock:
                 self._last[robot] = pose
+                self._new.add(robot)
 
     def tell(self, map_pose: Pose2D, now: float) -> None:
         """Put this robot's pose (map frame, its own belief) on its key, in the fleet's frame."""
+        with self._lock:
+            self._heard.update((name, now) for name in self._new)
+            self._new.clear()
+            self._now = now
         p = compose(self.dock, map_pose)
         msg = {"t": round(now, 3), "pose": [round(p.x, 3), round(p.y, 3), round(p.yaw, 3)]}
         self.outbox.post(where_key(self.robot), lambda: dumps(msg))
@@ -79,10 +94,11 @@ class Peers:
         """The other robots as last heard, this robot's map frame, by name."""
         with self._lock:
             last = sorted(self._last.items())
+            silent = {name for name, _ in last if self._now - self._heard.get(name, self._now) > SILENT}
         out = []
         for name, pose in last:
             q = compose(self._from_fleet, pose)
-            out.append(Peer(name, q.x, q.y, q.yaw))
+            out.append(Peer(name, q.x, q.y, q.yaw, name in silent))
         return out
 
     def attach(self, nav, scheduler) -> None:

@@ -28,8 +28,8 @@ from nav.viewpoints import look_at
 SLANTS = (0.25, 0.5, 0.75, 1.0, 1.1)
 """Radians off square on the plate's side. Rendered at P20 and P14 of the 4 x 6 greenhouse: the
 front camera reads the tag from 0.5-0.6 m out up to 1.1 rad (81 deg off-axis at 0.3 m), not
-always beyond; and a dead robot on the approach pose is kept out of 0.54 m round its centre
-(``nav.costmap.robots``), which only 1.1 rad from ``FARTHER`` out clears (0.58 m off it)."""
+always beyond. A robot dead on the approach pose is kept out of 0.46 m round its centre, with
+cost out to 0.51 m (``nav.costmap.robots``, a silent robot): 1.0-1.1 rad clear that."""
 FARTHER = 0.1
 """Metres beyond the approach distance of the second ring of looks: the wrist's IK look
 (``mission.patrol.inspect_view``) frames the plant from up to 0.6 m out (from 0.65 m it cannot

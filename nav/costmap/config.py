@@ -67,6 +67,14 @@ class RobotsLayerConfig(Strict):
     gradient: float = Field(0.25, ge=0)
     """Reach of the cost falloff past the lethal disc, m: the person layer's (MPPI's obstacle
     critic reads it back as a distance)."""
+    still_margin: float = Field(0.02, ge=0)
+    """``margin`` for a robot that has gone silent (``nav.costmap.robots.Peer.silent``: its
+    computer died, it stands where it last said): only the two beliefs' few cm, no pose going
+    stale as it moves. With the full margin and falloff a robot dead on a pot's approach pose
+    kept the others 0.6 m and more off it, out of the wrist's reach of the pot from every side
+    its tag reads from (``mission.patrol.aside``; ``fleet.handover_small``'s P20)."""
+    still_gradient: float = Field(0.05, ge=0)
+    """``gradient`` for a silent robot, m: it will not come closer, so MPPI need not keep farther."""
 
 
 class LocalCostmapConfig(Strict):

@@ -14,7 +14,9 @@ moves on, like a person).
 
 No stretch along a robot's velocity, unlike a walker's: the other robot keeps out of this one
 the same way. A robot that dies (its liveliness token gone) stands where it last said it was, so
-the peers' source keeps that pose until the robot is heard from again.
+the peers' source keeps that pose until the robot is heard from again; it says the robot is
+``silent``, and a silent robot is drawn with ``still_margin`` and ``still_gradient``: it does not
+move, so a pot it died at can still be looked at from beside it (``mission.patrol.aside``).
 
 Peers come in the ``map`` frame; ``frame`` gives map's pose in this costmap's frame (the
 identity for the global costmap, ``odom -> map`` for the local one).
@@ -50,6 +52,9 @@ class Peer:
     y: float
     """Its centre, this robot's ``map`` frame, m."""
     yaw: float
+    silent: bool = False
+    """Not heard from lately (``mission.link.peers.SILENT``): it stands where it last said,
+    kept out of by ``still_margin`` and ``still_gradient`` instead (it will not move)."""
 
 
 PeerSource = Callable[[], Sequence[Peer]]
@@ -67,12 +72,15 @@ class RobotsLayer:
         self.config, self.robot_radius = config, robot_radius
         self.peers: PeerSource = no_peers
         """The other robots (map frame); the link sets it when the robot joins a fleet."""
-        discs = PersonLayerConfig(clearance=config.margin, gradient=config.gradient, predict_time=0.0, min_confidence=0.0)
-        self._discs = PersonLayer(discs, robot_radius, cost_scaling_factor, self._bodies, frame)
+        self._discs = [PersonLayer(PersonLayerConfig(clearance=margin, gradient=gradient, predict_time=0.0, min_confidence=0.0),
+                                   robot_radius, cost_scaling_factor, lambda silent=silent: self._bodies(silent), frame)
+                       for silent, margin, gradient in ((False, config.margin, config.gradient),
+                                                        (True, config.still_margin, config.still_gradient))]
 
-    def _bodies(self) -> list[Person]:
-        """Each peer as a standing body of the footprint's radius (the person layer's shape)."""
-        return [Person(k, p.x, p.y, 0.0, 0.0, self.robot_radius, 1.0) for k, p in enumerate(self.peers())]
+    def _bodies(self, silent: bool) -> list[Person]:
+        """Each peer (heard from lately, or ``silent``) as a standing body of the footprint's
+        radius (the person layer's shape)."""
+        return [Person(k, p.x, p.y, 0.0, 0.0, self.robot_radius, 1.0) for k, p in enumerate(self.peers()) if p.silent == silent]
 
     def near(self, x: float, y: float, reach: float = PEER_REACH) -> bool:
         """Does another robot of the fleet say it stands within ``reach`` of map point (x, y)?"""
@@ -80,4 +88,6 @@ class RobotsLayer:
 
     def apply(self, master: np.ndarray, geometry: GridGeometry) -> np.ndarray:
         """``master`` with every peer's costs over it; the same array with no peers about."""
-        return self._discs.apply(master, geometry)
+        for discs in self._discs:
+            master = discs.apply(master, geometry)
+        return master

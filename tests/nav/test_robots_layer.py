@@ -42,6 +42,19 @@ def test_another_robot_is_lethal_to_both_footprints_and_the_margin_then_falls_of
     assert cost(cm, KEEP_OUT + 0.35, 0.0) == 0
 
 
+def test_a_silent_robot_stands_still_and_is_kept_out_of_by_less():
+    cm = open_floor()
+    cm.robots.peers = lambda: [Peer("r2", 0.0, 0.0, 0.0, silent=True)]
+    cm.set_static(np.zeros((80, 120), np.int8), 0.05, -3.0, -2.0)
+    still = 2 * R + CFG.costmap.robots.still_margin
+    assert cost(cm, still - 0.04, 0.0) == LETHAL
+    assert cost(cm, still + CFG.costmap.robots.still_gradient + 0.06, 0.0) == 0  # room to stand beside it
+    assert cost(cm, KEEP_OUT - 0.04, 0.0) < LETHAL  # where one heard from lately is lethal
+    cm.robots.peers = lambda: [Peer("r2", 0.0, 0.0, 0.0), Peer("r3", 2.0, 0.0, 0.0, silent=True)]
+    cm.set_static(np.zeros((80, 120), np.int8), 0.05, -3.0, -2.0)
+    assert cost(cm, KEEP_OUT - 0.04, 0.0) == LETHAL and cost(cm, 2.0 - (still - 0.04), 0.0) == LETHAL
+
+
 def test_a_robot_alone_has_nothing_drawn_and_a_robot_that_left_the_fleet_neither():
     cm = open_floor()
     alone = cm.grid.data
