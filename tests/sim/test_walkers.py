@@ -87,6 +87,21 @@ def test_the_footprint_is_the_legs_and_the_cart_ahead():
     assert footprint_gap(0, 0, 0.0, 0.45, 0.5, 0.0) < 0  # inside the cart
 
 
+def test_a_cart_pusher_turns_round_at_the_end_sweeping_the_cart_round_not_jumping_it():
+    """At the east end (6, 2), arriving at 4 s, a cart pusher turns round in a second of their
+    pause: half way through, the cart is to one side of them; then behind where it came."""
+    sim = _robot(width=0.9, pause=3.0)
+    _at(sim, 4.0)
+    cart = lambda x, y: sim.walkers.gap("W1", x, y) < 0  # noqa: E731 - inside the footprint
+    assert cart(6.45, 2.0) and not cart(5.55, 2.0)  # facing east, as they came
+    _at(sim, 4.5)
+    assert not cart(6.45, 2.0) and not cart(5.55, 2.0)  # swinging round: the cart to one side
+    assert cart(6.0, 2.45) or cart(6.0, 1.55)
+    _at(sim, 5.2)
+    assert cart(5.55, 2.0) and not cart(6.45, 2.0)  # turned round, and standing out the pause
+    assert _at(sim, 6.9)[0] == pytest.approx(6.0, abs=0.02)
+
+
 def test_a_walker_that_does_not_yield_walks_on_into_the_robot():
     sim = _robot(spawn=(4.0, 2.0), yields=False)
     assert _at(sim, 1.8)[0] == pytest.approx(3.8, abs=0.02)   # a yielding one waits at 3.41 (test above)
