@@ -6,7 +6,8 @@ as it is then); each is a goal for the navigator with a time limit of its own, a
 robot cannot reach is passed over. After arriving, the frame must be taken ``settle`` seconds
 later (the base has stopped); every frame taken on the way is read too (a plate passed is a
 plate found; ``on_the_way`` False: only frames taken standing at a look count, for a search that
-must end standing where it read). ``found(reads, robot)`` decides (and keeps what it needs); the search then succeeds. Out of looks, it fails, saying how many it tried. Stopping it cancels the
+must end standing where it read). ``found(reads, robot)`` decides (and keeps what it needs); the
+search then succeeds. Out of looks, it fails, saying how many it tried. Stopping it cancels the
 goal it was driving to (only while it runs, as ``behaviours.navigate.NavigateTo``).
 """
 from __future__ import annotations

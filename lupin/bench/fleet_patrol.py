@@ -28,9 +28,11 @@ all), pots handed over, and its makespan against the undisturbed 3-robot run (sh
 ``fleet.handover_small`` the same on the small greenhouse. r2 dies the moment its report counts
 a third of its pots: standing at the approach of the pot it has just inspected, whose result dies
 with it (no fetch can come between). That pot is handed over with the rest, and the robot it goes
-to cannot stand where r2 stands: measured on ``fleet.handover_small``, r2 read P20's tag and died,
-r3 tried P20 four times ("goal blocked beyond tolerance") and the run ends 23/24. Left so: a robot
-dead at a pot's plate hides it from the others until someone moves it.
+to cannot stand where r2 stands: it looks at the pot from beside r2 (``mission.patrol.aside``; r2,
+silent, is kept out of by less, ``nav.costmap.robots``). Before that, on ``fleet.handover_small``
+r3 tried P20 four times ("goal blocked beyond tolerance") and the run ended 23/24; now P20 is
+inspected from 0.57 m off its approach pose and the run ends 24/24 (``fleet.handover``: 179/180
+before, 180/180 after).
 
 Every run is counted; a run that did not end within ``DEADLINE_S`` of wall time says so
 (``complete`` false) with the figures it got.

@@ -95,7 +95,8 @@ def test_a_failed_drive_cleared_later_by_its_selector_leaves_the_next_drive_alon
     """py_trees' selector with memory stops the children before the one it runs at its next tick:
     the drive that failed must not cancel the goal the next child has just given."""
     clock, nav = SimClock(), FakeNav()
-    first, second = NavigateTo("go", nav, lambda: Pose2D(0, 0, 0), clock), NavigateTo("beside", nav, lambda: Pose2D(1, 0, 0), clock)
+    first = NavigateTo("go", nav, lambda: Pose2D(0, 0, 0), clock)
+    second = NavigateTo("beside", nav, lambda: Pose2D(1, 0, 0), clock)
     root = Selector("get there", memory=True, children=[first, second])
     tick_at(root, clock, 0.0)
     nav.state, nav.reason = State.FAILED, "no path"
