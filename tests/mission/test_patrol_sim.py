@@ -142,10 +142,12 @@ def test_nearest_first_visits_in_greedy_order_and_still_gets_every_pot_right(tmp
 
 @pytest.fixture(scope="module")
 def troubled_patrol(tmp_path_factory):
-    """P01 listed with the wrong tag, P02 with a crate on its approach pose, then P05."""
+    """P01 listed with the wrong tag, P02 with a bench along the aisle over its approach pose and
+    every look beside it (a crate there alone has it inspected from beside it,
+    tests/mission/test_blocked_approach.py), then P05."""
     world = load_default_world()
-    crate = Obstacle(x=3.0, y=0.5, sx=0.3, sy=0.3, yaw=0.0, h=0.8)
-    world = world.model_copy(update={"obstacles": [*world.obstacles, crate]})
+    bench = Obstacle(x=3.0, y=0.5, sx=1.2, sy=0.3, yaw=0.0, h=0.8)
+    world = world.model_copy(update={"obstacles": [*world.obstacles, bench]})
     base = mission_from_world(world)
     pots = {p.id: p for p in base.pots}
     mission = base.model_copy(update={"nav_timeout": 20.0, "pots": [
