@@ -13,8 +13,11 @@ of the plan and of MPPI's rollouts.
 Nothing is forgotten: a robot whose liveliness token went (its computer died, or it was switched
 off) still stands where it last said it was, an obstacle, until it is heard from again; a robot
 carried away is an obstacle where it stood until it speaks (a false obstacle costs a detour, a
-forgotten one a collision). Not heard from for ``SILENT`` s of this robot's clock, it is
-``silent``: a robot that stands still there, kept out of by less (``nav.costmap.robots``).
+forgotten one a collision). Not heard from for ``SILENT`` s, it is ``silent``: a robot that
+stands still there, kept out of by less (``nav.costmap.robots``). Silence is the link's, so it is
+timed on the wall clock: timed on the robot's, a fleet sim running faster than real time (its
+robots idle at their docks) outran the router, and a robot that lived counted as silent
+(``fleet.patrol_small``'s 3 robots: r2 waited 60 s more).
 Messages arrive on Zenoh's thread; the runtime reads a copy.
 """
 from __future__ import annotations
@@ -23,6 +26,8 @@ import json
 import logging
 import math
 import threading
+import time
+from typing import Callable
 
 import zenoh
 
@@ -38,8 +43,9 @@ WHERE = "lupin/*/where"
 RATE = 10.0
 """Poses put a second, Hz: the lidar's rate; a robot at 0.3 m/s moves 3 cm between two."""
 SILENT = 2.0
-"""Seconds (this robot's clock) without a pose from a robot before it counts as silent: twenty of
-its poses missed; a robot that lives puts one every 0.1 s."""
+"""Wall seconds without a pose from a robot before it counts as silent: twenty of its poses
+missed; a robot that lives puts one every 0.1 s of its clock (more often still in a sim faster
+than real time)."""
 TASK = "link.peers"
 
 
@@ -58,18 +64,17 @@ def read_where(payload: bytes) -> Pose2D | None:
 
 
 class Peers:
-    def __init__(self, session: zenoh.Session, outbox: Outbox, robot: str, dock: Pose2D):
-        """``dock``: this robot's dock (its map frame's origin) in the fleet's frame."""
-        self.outbox, self.robot, self.dock = outbox, robot, dock
+    def __init__(self, session: zenoh.Session, outbox: Outbox, robot: str, dock: Pose2D,
+                 clock: Callable[[], float] = time.monotonic):
+        """``dock``: this robot's dock (its map frame's origin) in the fleet's frame; ``clock``:
+        the wall clock silence is timed on."""
+        self.outbox, self.robot, self.dock, self.clock = outbox, robot, dock, clock
         self._from_fleet = inverse(dock)
         self._lock = threading.Lock()
         self._last: dict[str, Pose2D] = {}
         """Each other robot's last pose, fleet frame."""
-        self._new: set[str] = set()
-        """The robots heard from since this robot last told its pose."""
         self._heard: dict[str, float] = {}
-        """When (this robot's clock, to a tell) each other robot was last heard from."""
-        self._now = 0.0
+        """When (``clock``) each other robot was last heard from."""
         self._sub = session.declare_subscriber(WHERE, self._on_sample)
 
     def _on_sample(self, sample: zenoh.Sample) -> None:
@@ -78,14 +83,10 @@ class Peers:
         if robot != self.robot and pose is not None:
             with self._lock:
                 self._last[robot] = pose
-                self._new.add(robot)
+                self._heard[robot] = self.clock()
 
     def tell(self, map_pose: Pose2D, now: float) -> None:
         """Put this robot's pose (map frame, its own belief) on its key, in the fleet's frame."""
-        with self._lock:
-            self._heard.update((name, now) for name in self._new)
-            self._new.clear()
-            self._now = now
         p = compose(self.dock, map_pose)
         msg = {"t": round(now, 3), "pose": [round(p.x, 3), round(p.y, 3), round(p.yaw, 3)]}
         self.outbox.post(where_key(self.robot), lambda: dumps(msg))
@@ -94,7 +95,8 @@ class Peers:
         """The other robots as last heard, this robot's map frame, by name."""
         with self._lock:
             last = sorted(self._last.items())
-            silent = {name for name, _ in last if self._now - self._heard.get(name, self._now) > SILENT}
+            now = self.clock()
+            silent = {name for name, _ in last if now - self._heard[name] > SILENT}
         out = []
         for name, pose in last:
             q = compose(self._from_fleet, pose)

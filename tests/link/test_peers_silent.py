@@ -1,6 +1,6 @@
-"""A robot not heard from for ``SILENT`` s of this robot's clock is still where it last said it
-was, and ``silent`` (it stands still there: kept out of by less, ``nav.costmap.robots``); heard
-from again, it is not."""
+"""A robot not heard from for ``SILENT`` s of the wall clock (the link's) is still where it last
+said it was, and ``silent`` (it stands still there: kept out of by less, ``nav.costmap.robots``);
+heard from again, it is not."""
 from __future__ import annotations
 
 from types import SimpleNamespace
@@ -15,14 +15,13 @@ def sample(robot: str, x: float) -> SimpleNamespace:
 
 
 def test_a_robot_not_heard_from_for_a_while_is_silent_where_it_last_was():
+    wall = [100.0]
     session = SimpleNamespace(declare_subscriber=lambda key, on: SimpleNamespace(undeclare=lambda: None))
-    peers = Peers(session, SimpleNamespace(post=lambda key, make: None), "r1", Pose2D())
+    peers = Peers(session, SimpleNamespace(post=lambda key, make: None), "r1", Pose2D(), clock=lambda: wall[0])
     peers._on_sample(sample("r2", 1.0))
-    peers.tell(Pose2D(), 10.0)
-    peers.tell(Pose2D(), 10.0 + SILENT - 0.1)
+    wall[0] += SILENT - 0.1
     assert [(p.name, p.x, p.silent) for p in peers.around()] == [("r2", 1.0, False)]
-    peers.tell(Pose2D(), 10.0 + SILENT + 0.1)
+    wall[0] += 0.2
     assert [(p.name, p.x, p.silent) for p in peers.around()] == [("r2", 1.0, True)]
     peers._on_sample(sample("r2", 1.5))
-    peers.tell(Pose2D(), 20.0)
     assert [(p.name, p.x, p.silent) for p in peers.around()] == [("r2", 1.5, False)]
