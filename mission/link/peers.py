@@ -15,9 +15,7 @@ off) still stands where it last said it was, an obstacle, until it is heard from
 carried away is an obstacle where it stood until it speaks (a false obstacle costs a detour, a
 forgotten one a collision). Not heard from for ``SILENT`` s, it is ``silent``: a robot that
 stands still there, kept out of by less (``nav.costmap.robots``). Silence is the link's, so it is
-timed on the wall clock: timed on the robot's, a fleet sim running faster than real time (its
-robots idle at their docks) outran the router, and a robot that lived counted as silent
-(``fleet.patrol_small``'s 3 robots: r2 waited 60 s more).
+timed on the wall clock: a fleet sim running faster than real time can outrun the router.
 Messages arrive on Zenoh's thread; the runtime reads a copy.
 """
 from __future__ import annotations
