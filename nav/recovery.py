@@ -24,8 +24,8 @@ log = logging.getLogger("nav.navigator")
 
 class Recovery:
     """Mixed into ``nav.navigator.Navigator``: reads its ``io``, ``config``, ``local_costmap``,
-    ``smoother``, ``controller`` and ``people`` (and ``nav.waits``' ``_evade``), and keeps its ``_recoveries``, ``_backoff`` and
-    ``_backoff_until``."""
+    ``smoother``, ``controller`` and ``people`` (and ``nav.waits``' ``_evade``), and keeps its
+    ``_recoveries``, ``_backoff`` and ``_backoff_until``."""
 
     def _start_recovery(self, now: float, why: str) -> None:
         if self._recoveries >= self.config.navigator.max_recoveries:
