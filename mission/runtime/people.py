@@ -76,13 +76,6 @@ WALKED = 0.5
 """A track this far from where it was first seen has walked, m: more than a box's or a pot's
 seen centre shifts with the view (half a 0.6 m crouching body, a 0.3 m box corner-on)."""
 
-BRISK, BRISK_SCANS = 0.25, 5
-"""A track that moved this far over its last this many scans (0.5 m/s) has walked too, short of
-``WALKED``: a box's seen centre shifts with the view only as fast as the robot drives past it,
-a few cm a second, while a cart pusher who yields walked 0.32 m towards the robot and stopped for
-it, never shown a person (their legs behind the cart), and the robot stood 0.14 m from the cart
-for 25 s (safety.people seed 3, 409-444 s)."""
-
 LEGS_SEEN = 3
 """A track seen as a pair of legs (``perception.people.legs``) on this many scans is someone
 standing: one scan's pair can be a fluke of noise on two slivers, three are not."""
@@ -143,8 +136,6 @@ class People:
         """Per track: whether it was seen as a leg arc, on each of its last ``LEG_WINDOW`` scans."""
         self._origin: dict[int, tuple[float, float]] = {}
         self._last: dict[int, tuple[float, float]] = {}
-        self._recent: dict[int, deque[tuple[float, float]]] = {}
-        """Per track: where it was on each of its last ``BRISK_SCANS`` + 1 scans, since a hop."""
         self.failures = 0
         """Scans the tracker failed on (``tick``)."""
         self._failed_at = -math.inf
@@ -230,16 +221,11 @@ class People:
         self._last = {p.id: (p.x, p.y) for p in self.tracks}
         # a track that jumped (its detection hopped to another thing: the next unknown pot of a
         # row, the far end of a wall) starts its walk again from where it landed
-        hopped = {p.id for p in self.tracks if p.id not in self._origin or p.id not in last
-                  or np.hypot(p.x - last[p.id][0], p.y - last[p.id][1]) > HOP}
-        self._origin = {p.id: (p.x, p.y) if p.id in hopped else self._origin[p.id] for p in self.tracks}
-        self._recent = {p.id: deque(maxlen=BRISK_SCANS + 1) if p.id in hopped else self._recent[p.id]
-                        for p in self.tracks}
-        for p in self.tracks:
-            self._recent[p.id].append((p.x, p.y))
+        self._origin = {p.id: (p.x, p.y) if p.id not in self._origin or p.id not in last
+                        or np.hypot(p.x - last[p.id][0], p.y - last[p.id][1]) > HOP
+                        else self._origin[p.id] for p in self.tracks}
         self.walked = {p.id for p in self.tracks if p.id in self.walked
-                       or np.hypot(p.x - self._origin[p.id][0], p.y - self._origin[p.id][1]) > WALKED
-                       or np.hypot(*np.subtract(self._recent[p.id][-1], self._recent[p.id][0])) > BRISK}
+                       or np.hypot(p.x - self._origin[p.id][0], p.y - self._origin[p.id][1]) > WALKED}
         robots = self._robots_in_odom()
         self._shown = tuple(p for p in self.tracks
                             if not any(math.hypot(x - p.x, y - p.y) <= ROBOT_REACH for x, y in robots)
