@@ -88,18 +88,19 @@ def test_the_footprint_is_the_legs_and_the_cart_ahead():
 
 
 def test_a_cart_pusher_turns_round_at_the_end_sweeping_the_cart_round_not_jumping_it():
-    """At the east end (6, 2), arriving at 4 s, a cart pusher turns round in a second of their
-    pause: half way through, the cart is to one side of them; then behind where it came."""
+    """At the east end (6, 2), arriving at 4 s with a 3 s pause, a cart pusher stands facing the
+    way they came, turns round in the pause's last second (half way through, the cart to one
+    side of them), and walks back at 7 s."""
     sim = _robot(width=0.9, pause=3.0)
-    _at(sim, 4.0)
+    _at(sim, 5.5)
     cart = lambda x, y: sim.walkers.gap("W1", x, y) < 0  # noqa: E731 - inside the footprint
-    assert cart(6.45, 2.0) and not cart(5.55, 2.0)  # facing east, as they came
-    _at(sim, 4.5)
+    assert cart(6.45, 2.0) and not cart(5.55, 2.0)  # standing out the pause, facing east
+    _at(sim, 6.5)
     assert not cart(6.45, 2.0) and not cart(5.55, 2.0)  # swinging round: the cart to one side
     assert cart(6.0, 2.45) or cart(6.0, 1.55)
-    _at(sim, 5.2)
-    assert cart(5.55, 2.0) and not cart(6.45, 2.0)  # turned round, and standing out the pause
-    assert _at(sim, 6.9)[0] == pytest.approx(6.0, abs=0.02)
+    _at(sim, 6.99)
+    assert cart(5.55, 2.0) and not cart(6.45, 2.0)  # turned round
+    assert _at(sim, 7.5)[0] == pytest.approx(5.5, abs=0.03)  # and walking back from 7 s
 
 
 def test_a_walker_that_does_not_yield_walks_on_into_the_robot():
