@@ -194,7 +194,10 @@ class Dispatcher:
         data = part.model_dump(mode="json")
         data["pots"] = [p.model_dump(mode="json", exclude_none=True) for p in part.pots]
         aisles = {str(k): _in_dock_frame(poly, m.dock) for k, poly in self.aisles.items()}
-        error = m.client.send("mission_start", mission=data, **({"aisles": aisles} if aisles else {}))
+        mine = {p.id for p in part.pots}  # the others, so that its person tracker knows them for pots
+        others = np.array([[p.x, p.y] for p in self.mission.pots if p.id not in mine]).reshape(-1, 2)
+        error = m.client.send("mission_start", mission=data, **({"aisles": aisles} if aisles else {}),
+                              **({"others": _in_dock_frame(others, m.dock)} if len(others) else {}))
         if error is not None and " within " not in error:
             raise DispatchError(f"{m.name} refused its patrol: {error}")
         if error is not None:  # queued on a busy runtime (its first patrol compiles the planner's kernels): it comes

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING, Callable, Sequence
 
 import numpy as np
 from py_trees.common import Status
@@ -181,12 +181,16 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
                  climate: ClimateSource | None = None,
                  truth_error: Callable[[Pose2D], dict[str, float]] | None = None,
                  before_mission: Callable[[PatrolRun], None] = lambda run: None,
-                 history: History | None = None, world: str | None = None, gate: AisleGate | None = None) -> PatrolRun:
+                 history: History | None = None, world: str | None = None, gate: AisleGate | None = None,
+                 others: Sequence[tuple[float, float]] = ()) -> PatrolRun:
     """Schedule the tree (and the path trace) on a running robot with navigation;
     ``before_mission(run)`` schedules what must run before the tree at a shared instant.
     With ``history`` the patrol is recorded there as it goes (``world``: the sim world's name)
     and the report gains ``changes`` against the previous patrol of the same mission. ``gate``:
-    a fleet's aisle locks (``mission.patrol.aisle_gate``; None: a robot alone)."""
+    a fleet's aisle locks (``mission.patrol.aisle_gate``; None: a robot alone). ``others``: the
+    greenhouse's pots outside this mission (map frame), which the person tracker knows as pots
+    too: measured on ``fleet.patrol_small``, a robot given a fleet's share took the other robots'
+    pots for people standing still and waited 60 s for "a person in the only way"."""
     save_config(config, Path(report_path).parent)
     write_atomic(Path(report_path).parent / MISSION_FILE, dump_mission(mission).encode())  # what --resume reads
     perception = reading_mission_tags(perception, mission)
@@ -202,7 +206,8 @@ def start_patrol(robot: Robot, nav: Navigator, mission: Mission, config: LupinCo
     holds = MonitorHolds(lambda: robot.monitor.verdict, nav.map_pose, report.t0)
     report.observers.append(holds)
     robot.scheduler.every("patrol.holds", HOLDS_RATE, holds.tick)
-    tracked = robot.people.watch([(p.x, p.y) for p in mission.pots], config.patrol.pot_radius) if robot.people else nobody
+    pots = [(p.x, p.y) for p in mission.pots] + list(others)
+    tracked = robot.people.watch(pots, config.patrol.pot_radius) if robot.people else nobody
     people = PersonEncounters(tracked, lambda: robot.base.odometry.pose, lambda: robot.monitor.verdict, report.t0,
                               config.nav.costmap.robot_radius)
     report.observers.append(people)

@@ -135,7 +135,8 @@ class Service:
             raise CommandRefused("pause: no mission is running")
         self.run.tree.holds.pause()
 
-    def mission_start(self, mission: dict | None = None, aisles: dict[str, list] | None = None) -> None:
+    def mission_start(self, mission: dict | None = None, aisles: dict[str, list] | None = None,
+                      others: list[list[float]] | None = None) -> None:
         if self.run is not None:
             raise CommandRefused(f"mission_start: {self.run.tree.mission.name!r} is still running (abort it first)")
         try:
@@ -151,7 +152,7 @@ class Service:
             gate = AisleGate(self.aisle_client, AisleOutlines({int(k): np.asarray(v, float) for k, v in aisles.items()}))
         self.run = start_patrol(self.robot, self.nav, m, self.config, self.perception, report, self.wall_now,
                                 lambda: None, self.climate, self.truth_error, history=self.history, world=self.world,
-                                gate=gate)
+                                gate=gate, others=[(float(x), float(y)) for x, y in others or ()])
         for listener in self.on_run:
             listener(self.run)
         log.info("patrol %s started (%d pots)", m.name, len(m.pots))

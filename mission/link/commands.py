@@ -45,6 +45,10 @@ class MissionStartArgs(_Args):
     """A fleet's aisles, an outline each in the mission's frame (``fleet.aisles.outlines``; the
     id a JSON key), from the dispatcher: the patrol asks for them before it drives
     (``mission.patrol.aisle_gate``); none: no aisle is asked for, as a robot alone."""
+    others: Optional[list[Vertex]] = None
+    """The fleet mission's other pots, x, y in the mission's frame, from the dispatcher: pots
+    other robots inspect are pots all the same, and the person tracker knows them as such
+    (``mission.runtime.people``); none: the mission's own pots are all it knows."""
 
 
 class TeleopArgs(_Args):

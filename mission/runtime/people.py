@@ -54,7 +54,7 @@ from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
 from hw.people import Person
 from hw.people_guard import PeopleGuard
-from nav.frames import compose, transform_points
+from nav.frames import compose, inverse, transform_points
 from nav.grid_geometry import GridGeometry, paste
 from nav.occupancy import FREE, FREE_MAX, OCCUPIED_MIN, UNKNOWN, OccupancyMap
 from nav.structure import long_components
@@ -166,6 +166,11 @@ class People:
         self.scene, self._first, self._live, self._floor = None, None, None, None
         return self.confident
 
+    @property
+    def pots(self) -> np.ndarray:
+        """(N, 2) the pots the tracker knows for pots, map frame (none before ``watch``)."""
+        return np.empty((0, 2)) if self._pots is None else self._pots
+
     def confident(self) -> Sequence[Person]:
         """The people the distance rules act on (module docstring): chosen once a scan, read by
         the guard at every base tick and by both costmaps and the navigator."""
@@ -241,12 +246,15 @@ class People:
 
     def _robots_in_odom(self) -> list[tuple[float, float]]:
         """Where the fleet's other robots say they are, odom frame (a track within
-        ``ROBOT_REACH`` of one is that robot)."""
+        ``ROBOT_REACH`` of one is that robot). ``map_to_odom`` takes odom points into the map,
+        so its inverse takes the told poses back: composed the wrong way round, a robot 0.19 m
+        of SLAM correction from its odometry placed the others 0.4 m off, and a robot passing
+        another's dock was a person "at the goal" (``fleet.patrol_small``)."""
         robots = self.robots()
         if not robots:
             return []
-        m2o = self.map_to_odom()
-        return [(q.x, q.y) for q in (compose(m2o, r) for r in robots)]
+        o2m = inverse(self.map_to_odom())
+        return [(q.x, q.y) for q in (compose(o2m, Pose2D(r.x, r.y, r.yaw)) for r in robots)]
 
     def _inherit(self, stamp: float, shown: dict[int, tuple[float, float]]) -> None:
         """A person's track lost (hidden a moment, or cut by the map at a wall) leaves where it

@@ -19,8 +19,10 @@ import threading
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
+from fleet.assign import in_dock_frame
 from fleet.certs import member_files
 from fleet.fleet_patrol import fleet_patrol, read_inputs
 from lupin.cli import main
@@ -145,6 +147,12 @@ def test_two_robots_split_the_greenhouse_and_inspect_every_pot(router, certs, gr
         assert report["mission"] == summary["mission"] and report["outcome"] == "completed"
         assert sorted(p["id"] for p in report["pots"]) == sorted(assigned[r])
         assert sorted(v["done"]) == sorted(assigned[r]) and 0 < v["robot_time_s"] <= summary["makespan_s"]
+        # its person tracker knows the other robot's pots for pots too, each where it stands in its own map
+        inputs = read_inputs(greenhouse[1], greenhouse[0], None, LupinConfig())
+        mapped = np.array([(q.x, q.y) for q in (in_dock_frame(p, inputs.docks[r]) for p in inputs.mission.pots)])
+        known = robots[r].service.robot.people.pots
+        assert len(known) == len(mapped)
+        assert np.hypot(*(known[:, None, :] - mapped[None, :, :]).transpose(2, 0, 1)).min(axis=1).max() < 0.01
     assert (out / "fleet.png").stat().st_size > 0
 
 

@@ -12,6 +12,7 @@ import numpy as np
 from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
 from mission.runtime.people import LEG_SCANS, LEGS_SEEN, People, first_and_structure, floor_seen, without
+from nav.frames import compose
 from nav.occupancy import OccupancyMap
 from perception.people.config import PeopleConfig
 from tests.perception.people.synthetic import POT_RADIUS, greenhouse, mapped
@@ -267,3 +268,17 @@ def test_a_track_where_another_robot_of_the_fleet_says_it_stands_is_that_robot_n
     rig.ticks(1)
     (p,) = rig.people.confident()
     assert math.hypot(p.x - WORKER[0], p.y - WORKER[1]) < 0.15
+
+
+def test_where_the_fleet_says_a_robot_stands_is_taken_from_the_map_into_odom():
+    """The robots are told in the map frame and the tracks live in odom: ``map_to_odom`` takes
+    odom into the map, so a told pose goes back through its inverse (composed the other way, a
+    robot 0.2 m of SLAM correction off its odometry placed the others 0.4 m from where they were)."""
+    walls, _ = scene()
+    m2o = Pose2D(0.3, -0.2, 0.4)
+    people = People(PeopleConfig(), lambda: None, lambda: ODOM, MOUNT, lambda: m2o, lambda: mapped(walls))
+    seen_at = Pose2D(2.0, 1.0, 0.0)  # odom
+    told = compose(m2o, seen_at)  # the same place, map frame
+    people.robots = lambda: [told]
+    ((x, y),) = people._robots_in_odom()
+    assert math.hypot(x - seen_at.x, y - seen_at.y) < 1e-9
