@@ -19,11 +19,23 @@ that reads its tag, still fails, saying so.
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
+from py_trees.behaviour import Behaviour
+from py_trees.composites import Selector, Sequence
+
+from behaviours.search import SearchTag
+from behaviours.steps import Check
+from behaviours.visit import PotVisit
+from behaviours.why import why
 from hw.odometry import Pose2D
-from nav.costmap.grid import CostGrid
+from mission.patrol.mission_file import MissionPot
+from nav.costmap.grid import INSCRIBED, UNKNOWN, CostGrid
 from nav.frames import compose, inverse
 from nav.viewpoints import look_at
+
+if TYPE_CHECKING:
+    from mission.patrol.tree import PatrolTree
 
 SLANTS = (0.25, 0.5, 0.75, 1.0, 1.1)
 """Radians off square on the plate's side. Rendered at P20 and P14 of the 4 x 6 greenhouse: the
@@ -57,4 +69,40 @@ def aside_detail(ideal: Pose2D, here: Pose2D, why: str) -> str:
             f"turned {abs(math.degrees(off.yaw)):.0f} deg")
 
 
-__all__ = ["FARTHER", "SLANTS", "aside_detail", "aside_looks"]
+def beside_branch(tree: "PatrolTree", pot: MissionPot, visit: PotVisit, approach: Behaviour, taken: list[str]) -> Sequence:
+    """The pot's branch for when ``approach`` failed and something stands on its goal (its cell
+    is inscribed or lethal in the global costmap now): the looks beside it, until one reads the
+    pot's own tag standing there; the visit then says where it stood and why. ``taken`` gets
+    why the approach failed, and why the looks did (their leaves' own words are gone once the
+    selector above them moves on)."""
+    c, nav, standoff = tree.config, tree.nav, tree.mission.standoff
+
+    def goal_taken() -> bool:
+        goal = tree.approach_goal(pot)
+        taken[:] = [why(approach)]
+        return INSCRIBED <= int(nav.global_costmap.grid.cost_at(goal.x, goal.y)) < UNKNOWN
+
+    def looks() -> list[Pose2D]:
+        x, y, facing = tree.finder.where(pot, visit)
+        return aside_looks(x, y, facing, standoff, nav.global_costmap.grid, nav.map_pose())
+
+    def found(reads, robot: Pose2D) -> bool:
+        ideal = tree.approach_goal(pot)
+        if not tree.finder.place(pot, visit, reads, robot, c.tag_max_distance):
+            return False
+        visit.aside = aside_detail(ideal, robot, taken[0])
+        return True
+
+    def not_seen() -> bool:
+        taken.append(f"its approach pose is taken, and the looks beside it did not read its tag ({why(timed)})")
+        return False
+
+    search = SearchTag(f"look beside {pot.id}", nav, looks, tree.cameras["front"], tree.tag_reader, found,
+                       tree.clock, c.settle, c.search_look_timeout, on_the_way=False)
+    timed = tree._timed(search, c.search_time)
+    return Sequence(f"beside {pot.id}", memory=True, children=[
+        Check(f"{pot.id} approach pose taken?", goal_taken),
+        Selector(f"look beside {pot.id}", memory=True, children=[timed, Check(f"{pot.id} not read beside", not_seen)])])
+
+
+__all__ = ["FARTHER", "SLANTS", "aside_detail", "aside_looks", "beside_branch"]

@@ -108,14 +108,18 @@ class PotFinder:
         x, y, facing = in_mission_frame(visit)
         return math.hypot(x - pot.x, y - pot.y), abs(math.remainder(facing - pot.facing, 2 * math.pi))
 
-    def approach(self, pot: MissionPot, visit: PotVisit) -> Pose2D:
-        """The approach pose: from where the tag put a moved pot, else the mission's, carried by
-        the map's drift there (so a pot off by the drift alone is stood at right the first time)."""
+    def where(self, pot: MissionPot, visit: PotVisit) -> tuple[float, float, float]:
+        """Where the pot is believed to stand (x, y, facing; map frame): where the tag put a moved
+        pot, else the mission's place carried by the map's drift there."""
         if visit.moved:
-            x, y, facing = visit.located
-            return approach_pose(x, y, facing, self.mission.standoff)
+            return visit.located
         dx, dy = self.drift.near(pot.x, pot.y)
-        return approach_pose(pot.x + dx, pot.y + dy, pot.facing, self.mission.standoff)
+        return pot.x + dx, pot.y + dy, pot.facing
+
+    def approach(self, pot: MissionPot, visit: PotVisit) -> Pose2D:
+        """The approach pose to the pot where it is believed to stand (``where``): so a pot off
+        by the map's drift alone is stood at right the first time."""
+        return approach_pose(*self.where(pot, visit), self.mission.standoff)
 
     def search_looks(self, pot: MissionPot) -> list[Pose2D]:
         """Where to look for a pot whose tag was not at its approach pose: first a step back

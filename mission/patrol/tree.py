@@ -96,13 +96,14 @@ from behaviours.guard import Hold
 from behaviours.navigate import NavigateTo
 from behaviours.perceive import DetectFlower, ReadTags, WatchTags
 from behaviours.search import SearchTag
+from behaviours.why import why
 from behaviours.steps import Check, Do, WaitUntil
 from behaviours.timeout import Timeout
 from behaviours.visit import PotVisit
 from hw.interfaces import Clock
 from hw.odometry import Pose2D
 from mission.patrol.aisle_gate import RETRY, AisleGate
-from mission.patrol.aside import aside_detail, aside_looks
+from mission.patrol.aside import beside_branch
 from mission.patrol.config import PatrolConfig
 from mission.patrol.energy import EnergyBudget
 from mission.patrol.legs import LegLog, Legs, LegsSection
@@ -117,21 +118,11 @@ from nav.path_lengths import lengths_from, path_lengths
 from mission.patrol.report import PatrolReport
 from mission.runtime.heal import heal_controllers
 from mission.runtime.robot import Robot
-from nav.costmap.grid import INSCRIBED, UNKNOWN
 from nav.frames import distance
 from nav.navigator import Navigator
 from perception.camera_pipeline import CameraPipeline
 from perception.flower_detector import FlowerDetector
 from perception.tag_reader import TagReader
-
-
-def why(node: Behaviour) -> str:
-    """The reason a failed subtree gives: the deepest failed behaviour that says why, named
-    (py_trees iterates children first). A ``Retry`` only says how many times it failed."""
-    for n in node.iterate():
-        if n.status is Status.FAILURE and n.feedback_message:
-            return f"{n.name}: {n.feedback_message}"
-    return f"{node.name}: failed"
 
 
 @dataclass
@@ -370,7 +361,7 @@ class PatrolTree:
         taken: list[str] = []
         """Why the approach failed, and why the looks beside its taken goal did (its leaves'
         own words are gone once the selector above them moves on)."""
-        beside = self._beside(pot, visit, approach, taken)
+        beside = beside_branch(self, pot, visit, approach, taken)
         inspect_pot = Sequence(f"inspect {pot.id}", memory=True, children=[
             Selector(f"get to {pot.id}", memory=True, children=[approach, beside]),
             Do(f"arrived {pot.id}", arrived), front, find, moved, wrist, record, stow])
@@ -380,41 +371,6 @@ class PatrolTree:
             branch = Selector(f"{pot.id} later?", memory=True, children=[
                 Check(f"{pot.id} done", lambda: not visit.deferred or visit.done), branch])
         return OneShot(f"{pot.id} later" if later else pot.id, branch, OneShotPolicy.ON_COMPLETION)
-
-    def _beside(self, pot: MissionPot, visit: PotVisit, approach: Behaviour, taken: list[str]) -> Sequence:
-        """When the approach failed and something stands on its goal (its cell is inscribed or
-        lethal in the global costmap now): the looks beside it (``mission.patrol.aside``), until
-        one reads the pot's own tag standing there; the visit then says where it stood and why.
-        ``taken`` gets why the approach failed, and why the looks did."""
-        c, standoff = self.config, self.mission.standoff
-
-        def goal_taken() -> bool:
-            goal = self.approach_goal(pot)
-            taken[:] = [why(approach)]
-            return INSCRIBED <= int(self.nav.global_costmap.grid.cost_at(goal.x, goal.y)) < UNKNOWN
-
-        def looks() -> list[Pose2D]:
-            ideal = self.approach_goal(pot)
-            x, y = ideal.x + standoff * np.cos(ideal.yaw), ideal.y + standoff * np.sin(ideal.yaw)
-            return aside_looks(x, y, ideal.yaw + np.pi, standoff, self.nav.global_costmap.grid, self.nav.map_pose())
-
-        def found(reads, robot: Pose2D) -> bool:
-            ideal = self.approach_goal(pot)
-            if not self.finder.place(pot, visit, reads, robot, c.tag_max_distance):
-                return False
-            visit.aside = aside_detail(ideal, robot, taken[0])
-            return True
-
-        def not_seen() -> bool:
-            taken.append(f"its approach pose is taken, and the looks beside it did not read its tag ({why(timed)})")
-            return False
-
-        search = SearchTag(f"look beside {pot.id}", self.nav, looks, self.cameras["front"], self.tag_reader, found,
-                           self.clock, c.settle, c.search_look_timeout, on_the_way=False)
-        timed = self._timed(search, c.search_time)
-        return Sequence(f"beside {pot.id}", memory=True, children=[
-            Check(f"{pot.id} approach pose taken?", goal_taken),
-            Selector(f"look beside {pot.id}", memory=True, children=[timed, Check(f"{pot.id} not read beside", not_seen)])])
 
     def _find(self, pot: MissionPot, visit: PotVisit) -> Selector:
         """The pot's own tag placed the pot (or it has none to look for, or another tag is
