@@ -33,6 +33,10 @@ WALKING = 0.2
 #: while the tracker follows them; slower, the tracker's velocity of someone turning or pausing
 #: points anywhere (safety.people seed 4: a paused cart read 0.27 m/s sideways), m/s.
 STRIDING = 0.4
+#: Walks remembered (``walks``), the most lately walked: a greenhouse crew and then some. A
+#: person's walk outlives their track: the tracker gives a track born where a person was just
+#: lost their id (``mission.runtime.people``), and with it their walk.
+WALKS_KEPT = 64
 
 
 class PeopleNearby:
@@ -41,13 +45,17 @@ class PeopleNearby:
         self.robot_radius = config.costmap.robot_radius
         self.people, self.map_to_odom = people, map_to_odom
         self._walks: dict[int, tuple[float, float]] = {}
-        """Each track's last walking velocity, while the tracker follows it (``walks``)."""
+        """Each person's last walking velocity, by id, the latest walked last (``walks``)."""
 
     def counted(self) -> list[Person]:
         """The tracker's people the person layer counts (each read remembers their walks)."""
         people = [p for p in self.people() if p.confidence >= self.layer.min_confidence]
-        self._walks = {p.id: (p.vx, p.vy) if math.hypot(p.vx, p.vy) > STRIDING else self._walks[p.id]
-                       for p in people if math.hypot(p.vx, p.vy) > STRIDING or p.id in self._walks}
+        for p in people:
+            if math.hypot(p.vx, p.vy) > STRIDING:
+                self._walks.pop(p.id, None)
+                self._walks[p.id] = (p.vx, p.vy)
+        while len(self._walks) > WALKS_KEPT:
+            del self._walks[next(iter(self._walks))]
         return people
 
     def walks(self, people: list[Person]) -> np.ndarray:

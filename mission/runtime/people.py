@@ -125,8 +125,13 @@ class People:
         self.pairs: dict[int, int] = {}
         """Per track: on how many scans it was seen as a pair of legs."""
         self.inherited: set[int] = set()
-        """Ids of the tracks born where a person's track was just lost (``_inherit``)."""
-        self._gone: list[tuple[float, float, float]] = []
+        """Ids of the tracks born where a person's track was just lost (``_carry``)."""
+        self._gone: list[tuple[float, float, float, int]] = []
+        """Where a person's track was lost: x, y, when, their id."""
+        self._alias: dict[int, int] = {}
+        """Tracker id -> the id it goes by: a lost person's, for the track born where they were lost."""
+        self._raw: dict[int, int] = {}
+        """Last scan's tracks: the id each went by -> its tracker id."""
         self.robots: Callable[[], Sequence] = tuple
         """Where the fleet's other robots say they stand, map frame (``mission.link.peers``): a
         track on one is that robot (its lidar puck and arm in the scan plane look like a leg
@@ -219,9 +224,9 @@ class People:
         points = odom_points(scan.angles, scan.ranges, (lidar.x, lidar.y, lidar.yaw))
         explained = self.scene.explained(transform_points(self.map_to_odom(), points))
         shown = {p.id: (p.x, p.y) for p in self.confident()}
-        self.tracks = self.tracker.update(scan.stamp, points, (odom.x, odom.y, odom.yaw), explained)
+        raw = self.tracker.update(scan.stamp, points, (odom.x, odom.y, odom.yaw), explained)
+        self.tracks = self._carry(scan.stamp, raw, shown)
         self._count_legs(find_legs(points, np.array([lidar.x, lidar.y]), explained, self.config))
-        self._inherit(scan.stamp, shown)
         last = self._last
         self._last = {p.id: (p.x, p.y) for p in self.tracks}
         # a track that jumped (its detection hopped to another thing: the next unknown pot of a
@@ -256,18 +261,33 @@ class People:
         o2m = inverse(self.map_to_odom())
         return [(q.x, q.y) for q in (compose(o2m, Pose2D(r.x, r.y, r.yaw)) for r in robots)]
 
-    def _inherit(self, stamp: float, shown: dict[int, tuple[float, float]]) -> None:
-        """A person's track lost (hidden a moment, or cut by the map at a wall) leaves where it
-        was for ``REMEMBER`` seconds; a track born within ``REBORN`` of that is them again, a person
-        at once, not after another half metre of walking (people-crossing-no-yield: the grower
-        pausing by the wall at the end of each crossing came back as a new track each time, and
-        the robot drove up to them while it had still to be shown)."""
-        ids = {p.id for p in self.tracks}
+    def _carry(self, stamp: float, raw: Sequence[Person], shown: dict[int, tuple[float, float]]) -> tuple[Person, ...]:
+        """``raw`` under the ids they go by. A person's track lost (hidden a moment, or cut by the
+        map at a wall) leaves where it was for ``REMEMBER`` seconds; a track born within
+        ``REBORN`` of that is them again (``inherited``): a person at once, not after another half
+        metre of walking (people-crossing-no-yield: the grower pausing by the wall at the end of
+        each crossing came back as a new track each time, and the robot drove up to them while it
+        had still to be shown), and under their id, so that what the navigator remembers of them
+        goes on (``nav.people_nearby.walks``: safety.people seed 1, 2,555 s: a cart pusher who
+        does not yield, paused at the end of their cross aisle, came back as a new track with no
+        walk, so no lane; the robot stepped into it, and they walked back into the robot)."""
+        live = {p.id for p in raw}
         self._gone = [g for g in self._gone if stamp - g[2] <= REMEMBER]
-        self._gone += [(x, y, stamp) for k, (x, y) in shown.items() if k not in ids]
-        born = [p for p in self.tracks if p.id not in self._last]
-        self.inherited = (ids & self.inherited) | {p.id for p in born if any(np.hypot(p.x - x, p.y - y) <= REBORN
-                                                                             for x, y, _ in self._gone)}
+        self._gone += [(x, y, stamp, k) for k, (x, y) in shown.items() if self._raw.get(k) not in live]
+        seen, carried = set(self._raw.values()), set()
+        for p in raw:
+            if p.id in seen or not self._gone:
+                continue
+            d = [np.hypot(p.x - x, p.y - y) for x, y, _, _ in self._gone]
+            k = int(np.argmin(d))
+            if d[k] <= REBORN:
+                self._alias[p.id] = self._gone.pop(k)[3]
+                carried.add(self._alias[p.id])
+        self._alias = {k: v for k, v in self._alias.items() if k in live}
+        self._raw = {self._alias.get(k, k): k for k in live}
+        tracks = tuple(replace(p, id=self._alias[p.id]) if p.id in self._alias else p for p in raw)
+        self.inherited = ({p.id for p in tracks} & self.inherited) | carried
+        return tracks
 
     def _count_legs(self, shapes: LegShapes) -> None:
         """Count, per track, the scans on which it was seen as a pair of legs or a leg arc (the

@@ -231,7 +231,7 @@ def test_a_person_lost_for_a_moment_is_a_person_again_at_once_where_they_were_lo
     rig.points = seen
     rig.ticks(1)
     (after,) = rig.people.confident()
-    assert after.id != before.id
+    assert after.id == before.id  # them again, under their id
     rig.points = scene()[0].scan((ODOM.x + MOUNT.x, ODOM.y + MOUNT.y, 0.0))
     rig.ticks(50)  # gone for 5 s: forgotten
     rig.points = seen
