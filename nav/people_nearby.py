@@ -23,40 +23,22 @@ from nav.config import NavConfig
 from nav.costmap.grid import CostGrid
 from nav.frames import transform_points
 from nav.refuge import TOUCH, refuge_heading  # TOUCH: also ``in_lane``'s margin within ``wait_clearance``
+from nav.walks import WALKING, Walks
 
 #: Speed of a step out of a person's way within ``wait_clearance`` (1 m) of them, m/s: issue
 #: 28's most within 1.0 m of a person (farther off, the layer's faster ``step_speed``).
 NEAR_SPEED = 0.15
-#: A person faster than this is walking somewhere (their way is a lane, ``nav.refuge``), m/s.
-WALKING = 0.2
-#: A person faster than this strides along their walk: their heading is remembered (``walks``)
-#: while the tracker follows them; slower, the tracker's velocity of someone turning or pausing
-#: points anywhere (safety.people seed 4: a paused cart read 0.27 m/s sideways), m/s.
-STRIDING = 0.4
-#: Walks remembered (``walks``), the most lately walked: a greenhouse crew and then some. A
-#: person's walk outlives their track: the tracker gives a track born where a person was just
-#: lost their id (``mission.runtime.people``), and with it their walk.
-WALKS_KEPT = 64
 
 
 class PeopleNearby:
     def __init__(self, config: NavConfig, people: PeopleSource, map_to_odom: Callable[[], Pose2D]):
         self.layer = config.costmap.global_costmap.people
         self.robot_radius = config.costmap.robot_radius
-        self.people, self.map_to_odom = people, map_to_odom
-        self._walks: dict[int, tuple[float, float]] = {}
-        """Each person's last walking velocity, by id, the latest walked last (``walks``)."""
+        self.people, self.map_to_odom = Walks(people), map_to_odom
 
     def counted(self) -> list[Person]:
         """The tracker's people the person layer counts (each read remembers their walks)."""
-        people = [p for p in self.people() if p.confidence >= self.layer.min_confidence]
-        for p in people:
-            if math.hypot(p.vx, p.vy) > STRIDING:
-                self._walks.pop(p.id, None)
-                self._walks[p.id] = (p.vx, p.vy)
-        while len(self._walks) > WALKS_KEPT:
-            del self._walks[next(iter(self._walks))]
-        return people
+        return [p for p in self.people() if p.confidence >= self.layer.min_confidence]
 
     def walks(self, people: list[Person]) -> np.ndarray:
         """(P, 5) rows of x, y, vx, vy, radius, odom frame, of ``people`` as ``counted`` last read
@@ -64,7 +46,7 @@ class PeopleNearby:
         of their last walk (``nav.refuge`` keeps out of their lane): a cart pusher pausing at the
         end of a cross aisle turns and walks it again (safety.people seed 4: the robot took the
         paused cart's aisle for a place to wait in, and was in its way when it came back)."""
-        return np.array([[p.x, p.y, *self._walks.get(p.id, (p.vx, p.vy)), p.radius] for p in people], dtype=float)
+        return np.array([[p.x, p.y, *self.people.last(p), p.radius] for p in people], dtype=float)
 
     def keep_out(self, person: Person, clearance: float | None = None) -> float:
         """Centre to centre, m: ``clearance`` (the layer's when None) body to body."""

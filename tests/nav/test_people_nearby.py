@@ -9,7 +9,7 @@ from hw.odometry import Pose2D
 from hw.people import Person
 from nav.config import NavConfig
 from nav.costmap.grid import LETHAL, CostGrid
-from nav.people_nearby import WALKS_KEPT, PeopleNearby
+from nav.people_nearby import PeopleNearby
 
 CFG = NavConfig()
 
@@ -37,20 +37,3 @@ def test_with_room_on_its_own_side_it_steps_there():
     step = _step(walker, CostGrid.filled(120, 120, 0.05, 0.0, 0.0))
     assert step[0] > 0.2 and abs(step[1]) < 0.1 * step[0]  # east, away from their way
 
-
-def test_a_persons_walk_outlives_their_track_and_a_paused_walker_keeps_their_lane():
-    """A cart pusher walked south, was lost a moment at the end of their walk and came back
-    under their id, paused (the tracker gives a track born where a person was lost their id):
-    their walk, and so their lane back north, is still theirs (safety.people seed 1, 2,555 s)."""
-    now: list[Person] = [Person(7, 2.0, 3.0, 0.0, -1.0, 0.25, 0.9)]
-    nearby = PeopleNearby(CFG, lambda: now, Pose2D)
-    nearby.counted()
-    now[:] = []  # lost for a few scans
-    nearby.counted()
-    now[:] = [Person(7, 2.0, 2.0, 0.0, 0.0, 0.25, 0.9)]  # back, standing at the end of their walk
-    ((x, y, vx, vy, r),) = nearby.walks(nearby.counted())
-    assert (x, y, vx, vy) == (2.0, 2.0, 0.0, -1.0)  # the refuge keeps out of their lane, back north included
-    others = [Person(k, 0.0, 0.0, 1.0, 0.0, 0.25, 0.9) for k in range(100, 100 + 2 * WALKS_KEPT)]
-    now[:] = others
-    nearby.counted()
-    assert len(nearby._walks) == WALKS_KEPT and 7 not in nearby._walks  # the oldest walks go first

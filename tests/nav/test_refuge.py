@@ -10,7 +10,7 @@ import numpy as np
 
 from nav.config import NavConfig
 from nav.costmap.grid import LETHAL, CostGrid
-from nav.people_nearby import WALKING
+from nav.walks import WALKING
 from nav.refuge import refuge_heading
 
 LAYER = NavConfig().costmap.global_costmap.people

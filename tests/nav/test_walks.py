@@ -1,0 +1,46 @@
+"""A person's last walk, remembered by id (nav.walks): where a walker who pauses walks again."""
+from __future__ import annotations
+
+from hw.odometry import Pose2D
+from hw.people import Person
+from nav.config import NavConfig
+from nav.people_nearby import PeopleNearby
+from nav.walks import KEPT, Walks
+
+
+def test_a_persons_walk_outlives_their_track_and_a_paused_walker_keeps_it():
+    """A cart pusher walked south, was lost a moment at the end of their walk and came back
+    under their id, paused (the tracker gives a track born where a person was lost their id):
+    their walk is still theirs (safety.people seed 1, 2,555 s: with no walk, no lane, and the
+    robot stepped into it)."""
+    now: list[Person] = [Person(7, 2.0, 3.0, 0.0, -1.0, 0.25, 0.9)]
+    walks = Walks(lambda: now)
+    walks()
+    now[:] = []  # lost for a few scans
+    walks()
+    now[:] = [Person(7, 2.0, 2.0, 0.03, 0.0, 0.25, 0.9)]  # back, standing at the end of their walk
+    (p,) = walks()
+    assert walks.last(p) == (0.0, -1.0) and walks.paused(p) == (0.0, -1.0)
+    walking = Person(7, 2.0, 2.0, 0.0, 0.9, 0.25, 0.9)  # walking back north: their own velocity
+    assert walks.last(walking) == (0.0, 0.9) and walks.paused(walking) is None
+    assert walks.paused(Person(8, 0.0, 0.0, 0.0, 0.0, 0.25, 0.9)) is None  # never walked
+
+
+def test_only_the_latest_walks_are_kept():
+    now = [Person(7, 2.0, 3.0, 0.0, -1.0, 0.25, 0.9)]
+    walks = Walks(lambda: now)
+    walks()
+    now[:] = [Person(k, 0.0, 0.0, 1.0, 0.0, 0.25, 0.9) for k in range(100, 100 + 2 * KEPT)]
+    walks()
+    paused = Person(7, 2.0, 2.0, 0.0, 0.0, 0.25, 0.9)
+    assert walks.paused(paused) is None and walks.paused(Person(100 + 2 * KEPT - 1, 0, 0, 0, 0, 0.25, 0.9)) == (1.0, 0.0)
+
+
+def test_the_refuge_keeps_out_of_a_paused_walkers_walk():
+    """``PeopleNearby.walks`` gives the refuge a paused person's remembered walk as theirs."""
+    now = [Person(7, 2.0, 3.0, 0.0, -1.0, 0.25, 0.9)]
+    nearby = PeopleNearby(NavConfig(), lambda: now, Pose2D)
+    nearby.counted()
+    now[:] = [Person(7, 2.0, 2.0, 0.0, 0.0, 0.25, 0.9)]
+    ((x, y, vx, vy, r),) = nearby.walks(nearby.counted())
+    assert (x, y, vx, vy) == (2.0, 2.0, 0.0, -1.0)
