@@ -23,7 +23,7 @@ from nav.config import NavConfig
 from nav.costmap.grid import CostGrid
 from nav.frames import transform_points
 from nav.refuge import TOUCH, refuge_heading  # TOUCH: also ``in_lane``'s margin within ``wait_clearance``
-from nav.walks import WALKING, Walks
+from nav.walks import WALKING, walks_of
 
 #: Speed of a step out of a person's way within ``wait_clearance`` (1 m) of them, m/s: issue
 #: 28's most within 1.0 m of a person (farther off, the layer's faster ``step_speed``).
@@ -34,7 +34,7 @@ class PeopleNearby:
     def __init__(self, config: NavConfig, people: PeopleSource, map_to_odom: Callable[[], Pose2D]):
         self.layer = config.costmap.global_costmap.people
         self.robot_radius = config.costmap.robot_radius
-        self.people, self.map_to_odom = Walks(people), map_to_odom
+        self.people, self.map_to_odom = walks_of(people), map_to_odom
 
     def counted(self) -> list[Person]:
         """The tracker's people the person layer counts (each read remembers their walks)."""

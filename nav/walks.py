@@ -3,14 +3,18 @@
 The tracker gives each person's velocity now; someone pausing reads a few cm/s in any
 direction. But people in a greenhouse pace: a cart pusher at the end of a cross aisle turns
 and walks it back, a grower who stopped for the robot walks on once it is out of their way. So
-each consumer of the people (the costmaps' person layer, ``nav.people_nearby``) wraps its source
-in ``Walks``, which remembers each person's last stride by id, and reads a paused person's way
-from it. The tracker keeps a person's id across a moment lost (``mission.runtime.people``), so
-their walk outlives their track.
+the navigation reads the people through one ``Walks`` (both costmaps' person layers and
+``nav.people_nearby``), which remembers each person's last stride by id, and reads a paused
+person's way from it. The tracker keeps a person's id across a moment lost
+(``mission.runtime.people``), so their walk outlives their track. A pause longer than ``PAUSE``
+is someone standing, not turning round: a worker who walked to a bench and works there
+(walker-aisle-worker: kept out of their walk both ways for good, the robot never worked their
+aisle again).
 """
 from __future__ import annotations
 
 import math
+from typing import Callable
 
 from hw.people import Person, PeopleSource
 
@@ -22,34 +26,47 @@ STRIDING = 0.4
 WALKING = 0.2
 #: Walks remembered, the most lately walked: a greenhouse crew and then some.
 KEPT = 64
+#: The longest pause a walker turns round in, s: the sim's walkers pause 2-8 s at each end;
+#: stopped longer, they stand (``paused``).
+PAUSE = 10.0
 
 
 class Walks:
-    def __init__(self, people: PeopleSource):
-        self.people = people
-        self._last: dict[int, tuple[float, float]] = {}
-        """Each person's last striding velocity (odom), by id, the latest walked last."""
+    def __init__(self, people: PeopleSource, clock: Callable[[], float] = lambda: 0.0):
+        """``clock``: the runtime's seconds (a pause is timed on it)."""
+        self.people, self.clock = people, clock
+        self._last: dict[int, tuple[float, float, float]] = {}
+        """Each person's last striding velocity (odom) and when, by id, the latest walked last."""
 
     def __call__(self) -> list[Person]:
         """The people now (``PeopleSource``); each read remembers the striders' walks."""
         people = list(self.people())
+        now = self.clock()
         for p in people:
             if math.hypot(p.vx, p.vy) > STRIDING:
                 self._last.pop(p.id, None)
-                self._last[p.id] = (p.vx, p.vy)
+                self._last[p.id] = (p.vx, p.vy, now)
         while len(self._last) > KEPT:
             del self._last[next(iter(self._last))]
         return people
 
     def last(self, person: Person) -> tuple[float, float]:
         """``person``'s velocity, or, slower than a stride, that of their last walk (odom)."""
-        if math.hypot(person.vx, person.vy) > STRIDING:
+        if math.hypot(person.vx, person.vy) > STRIDING or person.id not in self._last:
             return person.vx, person.vy
-        return self._last.get(person.id, (person.vx, person.vy))
+        return self._last[person.id][:2]
 
     def paused(self, person: Person) -> tuple[float, float] | None:
-        """The velocity of a paused person's last walk (odom); None for someone walking now, or
-        who has not walked."""
-        if math.hypot(person.vx, person.vy) > WALKING:
+        """The velocity of a paused person's last walk (odom), while the pause is short enough
+        to turn round in (``PAUSE``); None for someone walking now, standing, or who has not
+        walked."""
+        walk = self._last.get(person.id)
+        if math.hypot(person.vx, person.vy) > WALKING or walk is None or self.clock() - walk[2] > PAUSE:
             return None
-        return self._last.get(person.id)
+        return walk[:2]
+
+
+def walks_of(people: PeopleSource) -> Walks:
+    """``people`` as a ``Walks``: itself when it is one (the navigation's, shared), else a walk
+    memory of its own with no clock (no pause ends: tests, tools)."""
+    return people if isinstance(people, Walks) else Walks(people)

@@ -22,6 +22,7 @@ from nav.occupancy import OccupancyMap
 from nav.planner import NavfnPlanner
 from nav.readiness import Readiness
 from nav.slam.supervisor import SlamSupervisor
+from nav.walks import Walks
 
 AUTO = "auto"
 READINESS_RATE = 10.0
@@ -40,6 +41,7 @@ def attach_navigation(robot: Robot, localisation: Localisation | None = None) ->
     scan = robot.hal.lidar.latest_scan
     odom_pose = lambda: base.odometry.pose  # noqa: E731
     people = attach_people(robot, lambda: localisation.map_to_odom(), lambda: getattr(localisation, "occupancy", None))
+    walks = Walks(people.confident, robot.scheduler.clock.now)  # the navigation's people, their walks remembered
     sources = Sources(
         odom_pose=odom_pose,
         odom_twist=lambda: base.odometry.twist,
@@ -47,9 +49,9 @@ def attach_navigation(robot: Robot, localisation: Localisation | None = None) ->
         publish=lambda twist, now: robot.mux.publish(AUTO, twist, now),
         estop=robot.estop.engaged,
         held=lambda: robot.monitor.verdict.holding or people.guard.verdict.holding,
-        people=people.confident,
+        people=walks,
     )
-    gcm = global_costmap(cfg.costmap, people.confident, lambda: localisation.map_to_odom())
+    gcm = global_costmap(cfg.costmap, walks, lambda: localisation.map_to_odom())
 
     def static_map(m: OccupancyMap) -> None:
         gcm.set_static(m.occupancy, m.resolution, m.origin_x, m.origin_y)
@@ -57,7 +59,7 @@ def attach_navigation(robot: Robot, localisation: Localisation | None = None) ->
     localisation = localisation or get_localisation(cfg, odom_pose, scan, static_map, robot.hal.clock.deterministic)
     readiness = Readiness({"scans": lambda: scan() is not None, "map": localisation.has_map,
                            "transform": localisation.ready}, cfg.navigator.readiness_timeout)
-    nav = Navigator(cfg, sources, localisation, local_costmap(cfg.costmap, people.confident, lambda: localisation.map_to_odom()), gcm, NavfnPlanner(cfg.planner),
+    nav = Navigator(cfg, sources, localisation, local_costmap(cfg.costmap, walks, lambda: localisation.map_to_odom()), gcm, NavfnPlanner(cfg.planner),
                     MppiController(cfg.mppi, cfg.costmap), readiness)
     sched = robot.scheduler
     sched.every("nav.localisation", localisation.rate, localisation.tick)

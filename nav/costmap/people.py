@@ -43,7 +43,7 @@ from nav.costmap.config import PersonLayerConfig
 from nav.costmap.grid import INSCRIBED, LETHAL, UNKNOWN
 from nav.frames import compose
 from nav.grid_geometry import GridGeometry
-from nav.walks import Walks
+from nav.walks import walks_of
 
 #: The highest cost below inscribed: the falloff's start.
 HIGHEST = INSCRIBED - 1
@@ -55,7 +55,7 @@ class PersonLayer:
         self.config = config
         self.robot_radius = robot_radius
         self.k = cost_scaling_factor
-        self.people = Walks(people)
+        self.people = walks_of(people)
         """The tracker's people (odom frame), read at every rebuild, their walks remembered."""
         self.frame = frame
         """odom's pose in this costmap's frame."""

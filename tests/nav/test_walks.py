@@ -5,7 +5,7 @@ from hw.odometry import Pose2D
 from hw.people import Person
 from nav.config import NavConfig
 from nav.people_nearby import PeopleNearby
-from nav.walks import KEPT, Walks
+from nav.walks import KEPT, PAUSE, Walks
 
 
 def test_a_persons_walk_outlives_their_track_and_a_paused_walker_keeps_it():
@@ -44,3 +44,19 @@ def test_the_refuge_keeps_out_of_a_paused_walkers_walk():
     now[:] = [Person(7, 2.0, 2.0, 0.0, 0.0, 0.25, 0.9)]
     ((x, y, vx, vy, r),) = nearby.walks(nearby.counted())
     assert (x, y, vx, vy) == (2.0, 2.0, 0.0, -1.0)
+
+
+def test_a_pause_longer_than_a_turn_is_someone_standing():
+    """A worker who walked to a bench and works there is standing, not about to walk back
+    (walker-aisle-worker: kept out of their walk both ways for good, the robot never worked
+    their aisle again)."""
+    t = [0.0]
+    now = [Person(7, 2.0, 3.0, 0.0, 0.8, 0.25, 0.9)]
+    walks = Walks(lambda: now, lambda: t[0])
+    walks()
+    now[:] = [Person(7, 2.0, 3.4, 0.0, 0.0, 0.25, 0.9)]
+    t[0] = PAUSE - 0.5
+    (p,) = walks()
+    assert walks.paused(p) == (0.0, 0.8)
+    t[0] = PAUSE + 0.5
+    assert walks.paused(p) is None and walks.last(p) == (0.0, 0.8)  # standing; the refuge still knows their line
