@@ -15,7 +15,8 @@ off) still stands where it last said it was, an obstacle, until it is heard from
 carried away is an obstacle where it stood until it speaks (a false obstacle costs a detour, a
 forgotten one a collision). Not heard from for ``SILENT`` s, it is ``silent``: a robot that
 stands still there, kept out of by less (``nav.costmap.robots``). Silence is the link's, so it is
-timed on the wall clock: a fleet sim running faster than real time can outrun the router.
+timed on the wall clock the runtime is given (``Service.wall_now``), not the robot's: a fleet sim
+running faster than real time can outrun the router.
 Messages arrive on Zenoh's thread; the runtime reads a copy.
 """
 from __future__ import annotations
@@ -24,7 +25,6 @@ import json
 import logging
 import math
 import threading
-import time
 from typing import Callable
 
 import zenoh
@@ -63,9 +63,9 @@ def read_where(payload: bytes) -> Pose2D | None:
 
 class Peers:
     def __init__(self, session: zenoh.Session, outbox: Outbox, robot: str, dock: Pose2D,
-                 clock: Callable[[], float] = time.monotonic):
+                 clock: Callable[[], float]):
         """``dock``: this robot's dock (its map frame's origin) in the fleet's frame; ``clock``:
-        the wall clock silence is timed on."""
+        the wall clock silence is timed on (the service's ``wall_now``)."""
         self.outbox, self.robot, self.dock, self.clock = outbox, robot, dock, clock
         self._from_fleet = inverse(dock)
         self._lock = threading.Lock()

@@ -89,7 +89,7 @@ class LinkServer:
             log.warning("%s: no dock of its own in fleet.docks: it cannot tell the others where it is, "
                         "nor place them, and keeps out of them on its lidar only", robot)
             return None
-        peers = Peers(self.session, self.outbox, robot, Pose2D(*dock))
+        peers = Peers(self.session, self.outbox, robot, Pose2D(*dock), service.wall_now)
         peers.attach(service.nav, service.robot.scheduler)
         people = getattr(service.robot, "people", None)
         if people is not None:  # the others' pucks and arms are robots, not people (``mission.runtime.people``)

@@ -259,7 +259,7 @@ class People:
         if not robots:
             return []
         o2m = inverse(self.map_to_odom())
-        return [(q.x, q.y) for q in (compose(o2m, Pose2D(r.x, r.y, r.yaw)) for r in robots)]
+        return [(q.x, q.y) for q in (compose(o2m, r) for r in robots)]
 
     def _carry(self, stamp: float, raw: Sequence[Person], shown: dict[int, tuple[float, float]]) -> tuple[Person, ...]:
         """``raw`` under the ids they go by. A person's track lost (hidden a moment, or cut by the

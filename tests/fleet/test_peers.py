@@ -5,6 +5,7 @@ said until it is heard from again."""
 from __future__ import annotations
 
 import math
+import time
 
 from hw.odometry import Pose2D
 from mission.link.outbox import Outbox
@@ -18,7 +19,7 @@ DOCK1, DOCK2 = Pose2D(0.0, 0.0, 0.0), Pose2D(0.0, 2.0, -math.pi / 2)
 def _peers(router, certs, name: str, dock: Pose2D):
     session = member(router, certs, name)
     outbox = Outbox(session.put, 16)
-    return session, outbox, Peers(session, outbox, name, dock)
+    return session, outbox, Peers(session, outbox, name, dock, time.monotonic)
 
 
 def _close(session, outbox) -> None:
