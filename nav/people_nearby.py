@@ -35,6 +35,9 @@ class PeopleNearby:
         self.layer = config.costmap.global_costmap.people
         self.robot_radius = config.costmap.robot_radius
         self.people, self.map_to_odom = walks_of(people), map_to_odom
+        self._refuge: np.ndarray | None = None
+        """Where the last step out of someone's way headed (odom), kept while it stays a refuge
+        (``nav.refuge.STICK``); forgotten once no step is wanted."""
 
     def counted(self) -> list[Person]:
         """The tracker's people the person layer counts (each read remembers their walks)."""
@@ -95,23 +98,24 @@ class PeopleNearby:
         many seconds of a walker's walk the keep-out runs along (``predict_time`` when None, the
         ``lane_time`` to step out of a lane)."""
         people = self.counted()
-        if not people:
-            return ZERO_TWIST
         here = np.array([odom.x, odom.y])
-        now, then = self._segments(people, reach)
+        now, then = self._segments(people, reach) if people else ((), ())
         close = [(p, d) for p, a, b in zip(people, now, then)
                  if (d := to_segment(here, a, b)) < self.keep_out(p, clearance)]
         if not close:
+            self._refuge = None
             return ZERO_TWIST
         p = min(close, key=lambda c: c[1])[0]
         gap = float(np.hypot(*(here - [p.x, p.y]))) - p.radius - self.robot_radius
         v = self.layer.step_speed if gap > self.layer.wait_clearance else NEAR_SPEED
         rows = self.walks(people)
         want = self.layer.clearance if clearance is None else clearance
-        u = refuge_heading(here, rows, grid, self.robot_radius, self.layer.clearance, want,
-                           self.layer.lane_time, WALKING)
-        if u is None:
+        step = refuge_heading(here, rows, grid, self.robot_radius, self.layer.clearance, want,
+                              self.layer.lane_time, WALKING, self._refuge)
+        self._refuge = None if step is None else step.refuge
+        if step is None or step.heading is None:
             return ZERO_TWIST
+        u = step.heading
         c, s = math.cos(odom.yaw), math.sin(odom.yaw)
         return Twist(v * (c * u[0] + s * u[1]), v * (-s * u[0] + c * u[1]), 0.0)
 

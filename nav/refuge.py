@@ -30,6 +30,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from typing import NamedTuple
+
 from nav.costmap.grid import CostGrid
 from nav.planner import NEUTRAL, OBSTACLE, POT_HIGH, crossing_costs, descend, propagate
 
@@ -39,6 +41,17 @@ TOUCH = 0.05
 MARGIN = 0.1
 #: The step heads for the point this far along the way to the refuge, m.
 LOOK = 0.3
+#: A refuge chosen before is kept while it is still a refuge and at most this much farther by
+#: path than the nearest, m. Chosen afresh each tick, the refuge flipped from one side of a cart
+#: pusher's lane to the other as the tracker's estimate of their heading swung +-15 deg, and
+#: the robot, stepping west, east, west, stood in the lane until the cart walked into it
+#: (safety.people seed 2, 1,403-1,407 s: the steps alternated 10 times in 3 s).
+STICK = 0.5
+#: How much nearer to a lane, or to someone, a refuge already headed for may come before it is
+#: given up, m: the nearest refuge is at the edge of a lane by its choosing, so any swing of a
+#: walker's heading estimate towards it would give it up (down to ``clearance`` + ``TOUCH`` -
+#: ``SLACK``, 0.25 m body to body from the lane: issue 28's least clearance while moving).
+SLACK = 0.1
 #: A person's walking pace, m/s (the sim's walkers 0.6-1.1): a lane reaches ``lane_time`` at
 #: this pace at least, so a walker slowing to turn at the end of their walk, whom the tracker
 #: still sees creeping at 0.25 m/s, keeps the whole lane they walk.
@@ -48,14 +61,23 @@ PACE = 1.0
 ACROSS = 0.45
 
 
+class Step(NamedTuple):
+    heading: np.ndarray | None
+    """Unit direction (odom) of the first stretch of the way to the refuge; None: it is here."""
+    refuge: np.ndarray
+    """The refuge's centre (odom): ``keep`` for the next tick's choice."""
+
+
 def refuge_heading(here: np.ndarray, people: np.ndarray, grid: CostGrid, robot_radius: float,
-                   clearance: float, want: float, lane_time: float, walking: float) -> np.ndarray | None:
-    """Unit direction (odom) of the first stretch of the way to the nearest refuge (module
-    docstring) from ``here``, or None: the robot is in one already, or none is in reach.
+                   clearance: float, want: float, lane_time: float, walking: float,
+                   keep: np.ndarray | None = None) -> Step | None:
+    """The step towards the nearest refuge (module docstring) from ``here``, or None: none is
+    in reach.
 
     ``people``: (P, 5) rows of x, y, vx, vy, radius in ``grid``'s frame; ``clearance`` the person
     layer's body-to-body keep-out, ``want`` the distance to wait at when there is room for it;
-    a person faster than ``walking`` m/s walks a lane."""
+    a person faster than ``walking`` m/s walks a lane; ``keep``: the refuge the last step headed
+    for, kept while it is still one within ``SLACK`` and not ``STICK`` farther than the nearest."""
     geo = grid.geometry
     h, w = grid.data.shape
     iy, ix = np.mgrid[0:h, 0:w]
@@ -74,15 +96,37 @@ def refuge_heading(here: np.ndarray, people: np.ndarray, grid: CostGrid, robot_r
     cost[sy + 1, sx + 1] = NEUTRAL
     framed = propagate(cost.ravel(), w + 2, (sy + 1) * (w + 2) + sx + 1, -1)
     pot = framed.reshape(h + 2, w + 2)[1:-1, 1:-1]
-    out_of_lanes = (lane >= clearance + TOUCH) & (pot < POT_HIGH)
+    kept = _cell(keep, geo)
     for need in sorted({want, clearance + MARGIN}, reverse=True):
-        safe = out_of_lanes & (gap >= need)
+        safe = _refuges(lane, gap, pot, clearance + TOUCH, need)
         if safe[sy, sx]:
-            return None  # already there
-        if safe.any():
-            k = int(np.argmin(np.where(safe, pot, np.inf)))
-            return _first_stretch(framed, cost, w, k, (sx, sy), geo)
+            return Step(None, np.array(geo.centre_of(sx, sy), dtype=float))  # already there
+        if not safe.any():
+            continue
+        k = divmod(int(np.argmin(np.where(safe, pot, np.inf))), w)
+        if kept is not None and _refuges(lane, gap, pot, clearance + TOUCH - SLACK, need - SLACK)[kept] \
+                and pot[kept] <= pot[k] + NEUTRAL * STICK / geo.resolution:
+            k = kept
+        refuge = np.array(geo.centre_of(k[1], k[0]), dtype=float)
+        if k == kept and max(abs(k[0] - sy), abs(k[1] - sx)) <= 1:
+            return Step(None, refuge)  # at the refuge headed for, or a cell off it
+        u = _first_stretch(framed, cost, w, k[0] * w + k[1], (sx, sy), geo)
+        return None if u is None else Step(u, refuge)
     return None
+
+
+def _refuges(lane: np.ndarray, gap: np.ndarray, pot: np.ndarray, off_lanes: float, need: float) -> np.ndarray:
+    """Cells in reach (``pot``) at least ``off_lanes`` from every walker's lane and ``need``
+    from everyone, body to body."""
+    return (lane >= off_lanes) & (gap >= need) & (pot < POT_HIGH)
+
+
+def _cell(point: np.ndarray | None, geo) -> tuple[int, int] | None:
+    """(row, column) of ``point``'s cell, None for no point or one off the grid."""
+    if point is None:
+        return None
+    (kx,), (ky,) = (np.atleast_1d(a) for a in geo.cell_of(point[0], point[1]))
+    return (int(ky), int(kx)) if geo.contains(kx, ky) else None
 
 
 def _gaps(cx: np.ndarray, cy: np.ndarray, people: np.ndarray, robot_radius: float) -> np.ndarray:

@@ -30,7 +30,11 @@ def _greenhouse() -> CostGrid:
 
 def _heading(people, want=LAYER.wait_clearance):
     rows = np.array([[p[0], p[1], p[2], p[3], p[4]] for p in people], dtype=float)
-    return refuge_heading(MOUTH, rows, _greenhouse(), RADIUS, LAYER.clearance, want, LAYER.lane_time, WALKING)
+    return _u(refuge_heading(MOUTH, rows, _greenhouse(), RADIUS, LAYER.clearance, want, LAYER.lane_time, WALKING))
+
+
+def _u(step):
+    return None if step is None else step.heading
 
 
 GROWER = (9.7, 4.5, 0.0, 0.0, 0.2)  # stopped for the robot in their aisle, 0.18 m body to body
@@ -50,14 +54,14 @@ def test_with_a_cart_coming_up_the_cross_aisle_it_does_not_back_off_into_the_car
 def test_a_robot_in_a_carts_way_leaves_it_on_its_own_side_never_across_in_front():
     here = np.array([8.3, 4.5])  # in the cross aisle, east of the cart's line
     rows = np.array([CART], dtype=float)
-    u = refuge_heading(here, rows, _greenhouse(), RADIUS, LAYER.clearance, LAYER.clearance, LAYER.lane_time, WALKING)
+    u = _u(refuge_heading(here, rows, _greenhouse(), RADIUS, LAYER.clearance, LAYER.clearance, LAYER.lane_time, WALKING))
     assert u is not None and u[0] > 0.5  # east, into the aisle mouth
 
 
 def test_a_robot_already_out_of_everyones_way_stays():
     rows = np.array([CART], dtype=float)
-    assert refuge_heading(MOUTH + [0.3, 0.0], rows, _greenhouse(), RADIUS, LAYER.clearance, LAYER.clearance,
-                          LAYER.lane_time, WALKING) is None
+    assert _u(refuge_heading(MOUTH + [0.3, 0.0], rows, _greenhouse(), RADIUS, LAYER.clearance, LAYER.clearance,
+                             LAYER.lane_time, WALKING)) is None
 
 
 def test_behind_a_walker_it_crosses_their_lane_to_a_refuge_beyond():
@@ -75,9 +79,29 @@ def test_behind_a_walker_it_crosses_their_lane_to_a_refuge_beyond():
     away = (12.75, 3.6, 0.0, 0.7, 0.35)  # the cross aisle's cart pusher, walking north, away
 
     def heading(*people):
-        return refuge_heading(here, np.array(people, dtype=float), grid, RADIUS, LAYER.clearance,
-                              LAYER.wait_clearance, LAYER.lane_time, WALKING)
+        return _u(refuge_heading(here, np.array(people, dtype=float), grid, RADIUS, LAYER.clearance,
+                                 LAYER.wait_clearance, LAYER.lane_time, WALKING))
     u = heading(grower, away)
     assert u is not None and u[0] > 0.5  # east, across the cart's lane behind it
     coming = (12.75, 3.6, 0.0, -0.7, 0.35)
     assert heading(grower, coming) is None  # across its way ahead: wait in the aisle
+
+
+def test_the_refuge_chosen_is_kept_while_a_carts_heading_estimate_swings():
+    """safety.people seed 2, 1,403-1,407 s: a cart coming up a cross aisle at the robot, the
+    tracker's heading for it swinging a few degrees either way; chosen afresh, the refuge
+    flipped from one side of its lane to the other each time, the robot stepped west, east,
+    west, and was still in the lane when the cart walked into it."""
+    here = np.array([6.0, 5.5])
+    grid = CostGrid.filled(60, 60, 0.05, here[0] - 1.5, here[1] - 1.5)  # open floor either side
+
+    def step(vx, keep=None):
+        cart = (6.0, 3.5, vx, 0.7, 0.35)
+        return refuge_heading(here, np.array([cart], dtype=float), grid, RADIUS, LAYER.clearance,
+                              LAYER.clearance, LAYER.lane_time, WALKING, keep)
+    west, east = step(0.015), step(-0.015)  # leaning east, the lane leaves more room west; and back
+    assert west.heading[0] < -0.5 and east.heading[0] > 0.5  # afresh, the side flips
+    kept = step(-0.015, keep=west.refuge)
+    assert kept.heading[0] < -0.5 and np.allclose(kept.refuge, west.refuge)  # kept: still west
+    far = west.refuge + [-1.0, 0.0]  # a refuge a metre farther than the nearest is not kept
+    assert step(-0.015, keep=far).heading[0] > 0.5

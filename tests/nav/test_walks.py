@@ -1,6 +1,8 @@
 """A person's last walk, remembered by id (nav.walks): where a walker who pauses walks again."""
 from __future__ import annotations
 
+import math
+
 from hw.odometry import Pose2D
 from hw.people import Person
 from nav.config import NavConfig
@@ -60,3 +62,24 @@ def test_a_pause_longer_than_a_turn_is_someone_standing():
     assert walks.paused(p) == (0.0, 0.8)
     t[0] = PAUSE + 0.5
     assert walks.paused(p) is None and walks.last(p) == (0.0, 0.8)  # standing; the refuge still knows their line
+
+
+def test_a_striders_heading_is_where_they_walked_not_their_velocity_now():
+    """A cart pushed north at 0.7 m/s, the tracker's velocity swinging 20 deg either way scan
+    to scan (safety.people seed 2, 1,403 s): the lane goes where they walked, at their speed."""
+    clock = [0.0]
+    now: list[Person] = []
+    walks = Walks(lambda: now, lambda: clock[0])
+    for k in range(12):  # 10 Hz, 1.1 s
+        clock[0] = 0.1 * k
+        swing = 0.25 if k % 2 else -0.25
+        now[:] = [Person(3, 6.0, 2.0 + 0.07 * k, swing, 0.66, 0.4, 0.9)]
+        (p,) = walks()
+    vx, vy = walks.last(p)
+    assert abs(vx) < 0.02 and abs(math.hypot(vx, vy) - math.hypot(0.25, 0.66)) < 1e-9
+    assert vy > 0.6
+    stopped = Person(3, 6.0, 2.8, 0.05, 0.0, 0.4, 0.9)  # they pause: their walk is remembered, heading and all
+    now[:] = [stopped]
+    clock[0] = 1.2
+    walks()
+    assert abs(walks.paused(stopped)[0]) < 0.02
