@@ -23,14 +23,15 @@ never across in front of them. Behind a walker it may cross their lane to a refu
 grower who had stopped for the robot in their aisle waited for it for good while the only way
 out crossed the far end of a cross aisle a cart pusher was walking away along (safety.people
 seed 1, 70-2200 s: 2,100 s of mutual waiting, 24 pots lost). A robot already standing
-in the best such place stays; with no such place in reach it stands still (standing, a walker who does not yield walks into it, which the judges
+in the best such place stays, and one heading for a refuge keeps heading for it while it stays
+one (``STICK``, ``SLACK``); with no such place in reach it stands still (standing, a walker who does not yield walks into it, which the judges
 count apart: moving into them is the robot's doing).
 """
 from __future__ import annotations
 
-import numpy as np
-
 from typing import NamedTuple
+
+import numpy as np
 
 from nav.costmap.grid import CostGrid
 from nav.planner import NEUTRAL, OBSTACLE, POT_HIGH, crossing_costs, descend, propagate
