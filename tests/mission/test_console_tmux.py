@@ -58,14 +58,14 @@ def test_console_sim_as_a_person_uses_it(tmp_path):
         tmux("send-keys", "-t", session, "m")  # start the mission
         wait_screen(session, "running", "P01", timeout=30)
         tmux("send-keys", "-t", session, "Space")  # soft e-stop
-        wait_screen(session, "E-STOP ENGAGED", "wheels: estop", timeout=10)
+        wait_screen(session, "E-STOP ENGAGED", "wheels: estop", timeout=30)
         tmux("send-keys", "-t", session, "Space")  # a second press never releases
         tmux("send-keys", "-t", session, "u")  # release: the mission stays held until resumed
-        wait_screen(session, "e-stop released: r to resume", "mission: estop", timeout=10)
+        wait_screen(session, "e-stop released: r to resume", "mission: estop", timeout=30)
         tmux("send-keys", "-t", session, "r")
-        wait_screen(session, "e-stop clear", "mission: running", timeout=10)
+        wait_screen(session, "e-stop clear", "mission: running", timeout=30)
         tmux("send-keys", "-t", session, "c")
-        wait_screen(session, "Clear the map?", timeout=10)  # asks first
+        wait_screen(session, "Clear the map?", timeout=30)  # asks first
         tmux("send-keys", "-t", session, "n")
         end = time.monotonic() + 10
         while "Clear the map?" in screen(session) and time.monotonic() < end:
