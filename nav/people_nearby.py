@@ -51,6 +51,10 @@ class PeopleNearby:
         paused cart's aisle for a place to wait in, and was in its way when it came back)."""
         return np.array([[p.x, p.y, *self.people.last(p), p.radius] for p in people], dtype=float)
 
+    def gap(self, person: Person, x: float, y: float) -> float:
+        """Body to body from a robot centred at (``x``, ``y``), odom, to ``person``, m."""
+        return math.hypot(x - person.x, y - person.y) - person.radius - self.robot_radius
+
     def keep_out(self, person: Person, clearance: float | None = None) -> float:
         """Centre to centre, m: ``clearance`` (the layer's when None) body to body."""
         return person.radius + (self.layer.clearance if clearance is None else clearance) + self.robot_radius
@@ -84,8 +88,7 @@ class PeopleNearby:
         they are beyond ``wait_clearance``; nearer, only a walk that would touch the robot
         (``TOUCH`` between bodies). Someone already at arm's length who will pass it by is let
         pass by a robot standing still; stepping away then is moving beside them."""
-        gap = float(np.hypot(*(here - [person.x, person.y]))) - person.radius - self.robot_radius
-        if gap > self.layer.wait_clearance:
+        if self.gap(person, *here) > self.layer.wait_clearance:
             return self.keep_out(person)
         return person.radius + self.robot_radius + TOUCH
 
@@ -99,15 +102,13 @@ class PeopleNearby:
         ``lane_time`` to step out of a lane)."""
         people = self.counted()
         here = np.array([odom.x, odom.y])
-        now, then = self._segments(people, reach) if people else ((), ())
-        close = [(p, d) for p, a, b in zip(people, now, then)
-                 if (d := to_segment(here, a, b)) < self.keep_out(p, clearance)]
+        close = [(p, d) for p, a, b in zip(people, *self._segments(people, reach))
+                 if (d := to_segment(here, a, b)) < self.keep_out(p, clearance)] if people else []
         if not close:
             self._refuge = None
             return ZERO_TWIST
         p = min(close, key=lambda c: c[1])[0]
-        gap = float(np.hypot(*(here - [p.x, p.y]))) - p.radius - self.robot_radius
-        v = self.layer.step_speed if gap > self.layer.wait_clearance else NEAR_SPEED
+        v = self.layer.step_speed if self.gap(p, odom.x, odom.y) > self.layer.wait_clearance else NEAR_SPEED
         rows = self.walks(people)
         want = self.layer.clearance if clearance is None else clearance
         step = refuge_heading(here, rows, grid, self.robot_radius, self.layer.clearance, want,

@@ -102,8 +102,7 @@ class Waits:
         if math.hypot(pose.x - self.goal.x, pose.y - self.goal.y) >= FINISH:
             return False
         odom = self.io.odom_pose()
-        return all(math.hypot(p.x - odom.x, p.y - odom.y) - p.radius - self.people.robot_radius
-                   > self.people.layer.wait_clearance for p in self.people.counted())
+        return all(self.people.gap(p, odom.x, odom.y) > self.people.layer.wait_clearance for p in self.people.counted())
 
     def _whom(self) -> str:
         """Who a wait for people waits for, in its words: "a robot" when everyone counted stands
