@@ -282,3 +282,30 @@ def test_where_the_fleet_says_a_robot_stands_is_taken_from_the_map_into_odom():
     people.robots = lambda: [told]
     ((x, y),) = people._robots_in_odom()
     assert math.hypot(x - seen_at.x, y - seen_at.y) < 1e-9
+
+
+def test_a_thing_beside_a_person_whose_track_is_lost_is_that_person_not_nobody():
+    """A cart and its pusher seen as two bodies: the person's track dies (it hopped onto the legs,
+    say) while the cart's, never shown a person, stays. The cart is taken for them, under their
+    id; it was nobody, and the robot drove up to 0.13 m of a cart whose grower waited for it."""
+    walls, pots = scene()
+
+    def scan(k: int | None):
+        s, _ = scene()
+        s.box(4.3, 3.0, 0.3, 0.3)  # beside where the worker stops, apart enough to be a body of its own
+        if k is not None:
+            s.crouching(WORKER[0] + 0.04 * (k + 1), WORKER[1], math.pi)
+        return s.scan((ODOM.x + MOUNT.x, ODOM.y + MOUNT.y, 0.0))
+
+    rig = Rig(mapped(walls), thing=lambda s: s.crouching(*WORKER, math.pi))
+    rig.people.watch(pots, 0.10)
+    for k in range(25):  # a crouching worker shuffles 1 m east: a person by walking
+        rig.points = scan(k)
+        rig.ticks(1)
+    (worker,) = rig.people.confident()
+    (box,) = [p for p in rig.people.current() if p.id != worker.id]
+    assert math.hypot(box.x - worker.x, box.y - worker.y) < 0.8  # near, but a track of its own, not shown
+    rig.points = scan(None)
+    rig.ticks(15)  # the worker's track dies
+    (now,) = rig.people.current()
+    assert rig.people.confident() == (now,) and now.id == worker.id and math.hypot(now.x - box.x, now.y - box.y) < 0.1
