@@ -22,14 +22,10 @@ nearer than they are now), and never goes deeper into the way ahead of a walker 
 never across in front of them. Behind a walker it may cross their lane to a refuge beyond: a
 grower who had stopped for the robot in their aisle waited for it for good while the only way
 out crossed the far end of a cross aisle a cart pusher was walking away along (safety.people
-seed 1, 70-2200 s: 2,100 s of mutual waiting, 24 pots lost). But not behind someone paused in
-their walk: at its end they turn round, and behind them is ahead (held-out seed 7, 632-640 s: the
-robot crossed the north end of a cross aisle behind a cart pusher who does not yield, paused there
-facing north; they turned and shoved it 3.4 m down the aisle, and its localisation never
-recovered). A robot already standing in the best such place stays, and one heading for a refuge
-keeps heading for it while it stays one (``STICK``, ``SLACK``); with no such place in reach it
-stands still (standing, a walker who does not yield walks into it, which the judges count apart:
-moving into them is the robot's doing).
+seed 1, 70-2200 s: 2,100 s of mutual waiting, 24 pots lost). A robot already standing
+in the best such place stays, and one heading for a refuge keeps heading for it while it stays
+one (``STICK``, ``SLACK``); with no such place in reach it stands still (standing, a walker who does not yield walks into it, which the judges
+count apart: moving into them is the robot's doing).
 """
 from __future__ import annotations
 
@@ -75,24 +71,21 @@ class Step(NamedTuple):
 
 def refuge_heading(here: np.ndarray, people: np.ndarray, grid: CostGrid, robot_radius: float,
                    clearance: float, want: float, lane_time: float, walking: float,
-                   keep: np.ndarray | None = None, turning: np.ndarray | None = None) -> Step | None:
+                   keep: np.ndarray | None = None) -> Step | None:
     """The step towards the nearest refuge (module docstring) from ``here``, or None: none is
     in reach.
 
     ``people``: (P, 5) rows of x, y, vx, vy, radius in ``grid``'s frame; ``clearance`` the person
     layer's body-to-body keep-out, ``want`` the distance to wait at when there is room for it;
     a person faster than ``walking`` m/s walks a lane; ``keep``: the refuge the last step headed
-    for, kept while it is still one within ``SLACK`` and not ``STICK`` farther than the nearest;
-    ``turning``: (P,) bool, those paused in their walk (``nav.walks.Walks.paused``), whose way
-    ahead runs both ways: paused at the end of their walk, they turn round and come back."""
+    for, kept while it is still one within ``SLACK`` and not ``STICK`` farther than the nearest."""
     geo = grid.geometry
     h, w = grid.data.shape
     iy, ix = np.mgrid[0:h, 0:w]
     cx, cy = geo.centre_of(ix, iy)
     gap = _gaps(cx, cy, people, robot_radius)
     lane = _lane_gaps(cx, cy, people, robot_radius, lane_time, walking).min(axis=0, initial=np.inf)
-    ahead = _lane_gaps(cx, cy, people, robot_radius, lane_time, walking,
-                       back=np.zeros(len(people), bool) if turning is None else turning)
+    ahead = _lane_gaps(cx, cy, people, robot_radius, lane_time, walking, back=False)
     (sx,), (sy,) = (np.atleast_1d(a) for a in geo.cell_of(here[0], here[1]))
     if not geo.contains(sx, sy):
         return None
@@ -146,19 +139,18 @@ def _gaps(cx: np.ndarray, cy: np.ndarray, people: np.ndarray, robot_radius: floa
 
 
 def _lane_gaps(cx: np.ndarray, cy: np.ndarray, people: np.ndarray, robot_radius: float, lane_time: float,
-               walking: float, back: bool | np.ndarray = True) -> np.ndarray:
+               walking: float, back: bool = True) -> np.ndarray:
     """(W, H, W) per walker: body-to-body distance from a robot on each cell to their lane (their
-    line ``lane_time`` on and, with ``back`` (one for all, or per person), back, at ``PACE`` at
-    least, ``ACROSS`` wide at most each side), m; none with no one walking. Per walker, not the
-    nearest lane: standing deep in one walker's lane must not let the way go deeper into another's."""
+    line ``lane_time`` on and, with ``back``, back, at ``PACE`` at least, ``ACROSS`` wide at most
+    each side), m; none with no one walking. Per walker, not the nearest lane: standing deep in one
+    walker's lane must not let the way go deeper into another's."""
     out = []
-    backs = np.broadcast_to(np.asarray(back, bool), (len(people),))
-    for (x, y, vx, vy, r), both in zip(people, backs):
+    for x, y, vx, vy, r in people:
         speed = np.hypot(vx, vy)
         if speed <= walking:
             continue
         reach = lane_time * max(speed, PACE) / speed
-        behind = reach if both else 0.0
+        behind = reach if back else 0.0
         ax, ay, bx, by = x - vx * behind, y - vy * behind, x + vx * reach, y + vy * reach
         dx, dy = bx - ax, by - ay
         t = np.clip(((cx - ax) * dx + (cy - ay) * dy) / (dx * dx + dy * dy), 0.0, 1.0)
