@@ -96,8 +96,8 @@ REMEMBER = 3.0
 worker cut by the map where they touch a wall, or out of view behind a pot for a few steps."""
 
 REBORN = 0.8
-"""A track this near where a person's was lost, and not shown a person itself, is theirs, m: the gate of the tracker
-(``PeopleConfig.gate``), a step and a half."""
+"""A track this near where a person's was lost, and not shown a person itself, is theirs, m: the
+gate of the tracker (``PeopleConfig.gate``), a step and a half."""
 
 FAULT_LOG_GAP = 60.0
 """A failing tracker is logged at most this often, s (with its traceback)."""
