@@ -67,19 +67,6 @@ def test_timeout_runs_on_the_runtime_clock_and_stops_its_child():
     assert "timed out after 2 s" in root.feedback_message
 
 
-def test_a_drive_s_waits_for_people_do_not_count_against_its_time():
-    """A cart pusher pacing a pot's aisle held the robot 40 s of a 60 s drive, which was then
-    cut 0.15 m from its approach pose (safety.people seed 1, 308 s)."""
-    clock, child, waited = SimClock(), Still(), [0.0]
-    root = Timeout("t", child, clock, 2.0, lambda: waited[0])
-    assert tick_at(root, clock, 0.0) is Status.RUNNING
-    waited[0] = 1.5  # held 1.5 s for a person
-    assert tick_at(root, clock, 3.0) is Status.RUNNING
-    assert tick_at(root, clock, 3.5) is Status.FAILURE
-    assert child.stopped_with is Status.INVALID
-    assert "timed out after 2 s and 2 s of waiting" in root.feedback_message
-
-
 def test_navigate_to_mirrors_the_navigator_and_cancels_when_stopped():
     clock, nav = SimClock(), FakeNav()
     starts = []
