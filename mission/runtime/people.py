@@ -99,6 +99,10 @@ REBORN = 0.8
 """A track this near where a person's was lost, and not shown a person itself, is theirs, m: the
 gate of the tracker (``PeopleConfig.gate``), a step and a half."""
 
+STANDING = 0.4
+"""A person slower than this stands, m/s (``nav.walks.STRIDING``: a paused cart's track reads up to
+~0.3 m/s of jitter); where they stood is remembered for ``_carry``."""
+
 FAULT_LOG_GAP = 60.0
 """A failing tracker is logged at most this often, s (with its traceback)."""
 
@@ -126,8 +130,11 @@ class People:
         """Per track: on how many scans it was seen as a pair of legs."""
         self.inherited: set[int] = set()
         """Ids of the tracks found where a person's track was just lost (``_carry``)."""
-        self._gone: list[tuple[float, float, float, int]] = []
-        """Where a person's track was lost: x, y, when, their id."""
+        self._gone: list[tuple[float, float, float, int | None]] = []
+        """Where a person's track was lost: x, y, when, their id (None: their track went on
+        elsewhere, ``_carry``)."""
+        self._stood: dict[int, tuple[float, float, float]] = {}
+        """Per person shown: where their track last stood still (``STANDING``), and when."""
         self._alias: dict[int, int] = {}
         """Tracker id -> the id it goes by: a lost person's, for the track born where they were lost."""
         self._raw: dict[int, int] = {}
@@ -275,7 +282,14 @@ class People:
         as two bodies are two tracks, the cart's born beside the person's; the person's track
         hopped off onto the pusher's legs and died, and the cart, standing where the grower had
         stopped for the robot, was nobody (held-out seed 3, 244-249 s: the robot drove up to
-        0.13 m of it and waited there 40 s while its grower waited for it)."""
+        0.13 m of it and waited there 40 s while its grower waited for it).
+
+        A person's track that leaves where it stood still (``_walked_off``) leaves that place the same
+        way, their id going on with the track: a thing there not shown a person is one, under
+        its own id. A cart pusher paused at the end of their aisle, and a grower walking past
+        them drew the track off onto themselves (one blob as they passed); the cart stayed as a
+        track never shown a person, and the robot drove along it at 0.08 m (safety.people seed 1,
+        274-282 s, arm over the cart)."""
         live = {p.id for p in raw}
         self._gone = [g for g in self._gone if stamp - g[2] <= REMEMBER]
         self._gone += [(x, y, stamp, k) for k, (x, y) in shown.items() if self._raw.get(k) not in live]
@@ -286,13 +300,34 @@ class People:
             d = [np.hypot(p.x - x, p.y - y) for x, y, _, _ in self._gone]
             k = int(np.argmin(d))
             if d[k] <= REBORN:
-                self._alias[p.id] = self._gone.pop(k)[3]
-                carried.add(self._alias[p.id])
+                whose = self._gone.pop(k)[3]
+                if whose is not None:
+                    self._alias[p.id] = whose
+                carried.add(p.id if whose is None else whose)
         self._alias = {k: v for k, v in self._alias.items() if k in live}
         self._raw = {self._alias.get(k, k): k for k in live}
         tracks = tuple(replace(p, id=self._alias[p.id]) if p.id in self._alias else p for p in raw)
         self.inherited = ({p.id for p in tracks} & self.inherited) | carried
+        self._walked_off(stamp, tracks, shown)
         return tracks
+
+    def _walked_off(self, stamp: float, tracks: Sequence[Person], shown: dict[int, tuple[float, float]]) -> None:
+        """Remember where each person shown stands still; once their track is ``REBORN`` from
+        there (they walked off, or were drawn off onto someone passing), the place is one a
+        person was lost from (``_gone``, no id: theirs goes on with the track)."""
+        stood = {}
+        for p in tracks:
+            if p.id not in shown:
+                continue
+            if math.hypot(p.vx, p.vy) < STANDING:
+                stood[p.id] = (p.x, p.y, stamp)
+            elif p.id in self._stood:
+                x, y, when = self._stood[p.id]
+                if math.hypot(p.x - x, p.y - y) > REBORN:
+                    self._gone.append((x, y, stamp, None))
+                elif stamp - when <= REMEMBER:
+                    stood[p.id] = (x, y, when)
+        self._stood = stood
 
     def _count_legs(self, shapes: LegShapes) -> None:
         """Count, per track, the scans on which it was seen as a pair of legs or a leg arc (the

@@ -309,3 +309,34 @@ def test_a_thing_beside_a_person_whose_track_is_lost_is_that_person_not_nobody()
     rig.ticks(15)  # the worker's track dies
     (now,) = rig.people.current()
     assert rig.people.confident() == (now,) and now.id == worker.id and math.hypot(now.x - box.x, now.y - box.y) < 0.1
+
+
+def test_a_thing_where_a_person_stood_still_is_a_person_once_their_track_walks_off():
+    """A cart pusher paused at the end of their aisle, and a grower walking past drew the track
+    off onto themselves; the cart stayed a track never shown a person, and the robot drove along
+    it at 0.08 m (safety.people seed 1, 274-282 s). Here the worker walks off and leaves the box:
+    the box is a person from then on, and the worker goes on under their id."""
+    walls, pots = scene()
+    stop = (WORKER[0] + 0.6, WORKER[1])
+
+    def scan(x: float):
+        s, _ = scene()
+        s.box(stop[0] + 0.3, 3.0, 0.3, 0.3)  # beside where the worker stops, a body of its own
+        s.crouching(x, WORKER[1], math.pi)
+        return s.scan((ODOM.x + MOUNT.x, ODOM.y + MOUNT.y, 0.0))
+
+    rig = Rig(mapped(walls), thing=lambda s: s.crouching(*WORKER, math.pi))
+    rig.people.watch(pots, 0.10)
+    for k in range(15):  # shuffles 0.6 m east: a person by walking
+        rig.points = scan(WORKER[0] + 0.04 * (k + 1))
+        rig.ticks(1)
+    rig.ticks(20)  # and stands
+    (worker,) = rig.people.confident()
+    (box,) = [p for p in rig.people.current() if p.id != worker.id]
+    assert not any(p.id == box.id for p in rig.people.confident())
+    for k in range(20):  # walks off east at 0.8 m/s, past the box and the reach of where they stood
+        rig.points = scan(stop[0] + 0.08 * (k + 1))
+        rig.ticks(1)
+    shown = {p.id: p for p in rig.people.confident()}
+    assert worker.id in shown and math.hypot(shown[worker.id].x - stop[0], shown[worker.id].y - stop[1]) > 0.8
+    assert [p for p in shown.values() if p.id != worker.id and math.hypot(p.x - box.x, p.y - box.y) < 0.1]
