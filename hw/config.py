@@ -266,13 +266,6 @@ class PeopleGuardConfig(Strict):
     move, and two who wait for each other would wait for ever (walker-following). A grower who
     walked up to it only in passing has gone on within it (people-crossing-no-yield: 1 s coming,
     2 s standing at the end of their round, 3 s was too short)."""
-    still_walking: float = Field(0.4, ge=0)
-    """A person faster than this walks, m/s: one walking within ``still_distance`` is stood still
-    for however long ``still_wait`` has run, since they are gone in a moment and the robot's step
-    away would be moving beside them (safety.people seed 1, 2,271 s: a grower who stopped for
-    it at its side had run ``still_wait`` out, and the robot stepped away at 0.12 m from one who
-    does not yield walking past at 1.1 m/s). Slower is standing: a paused cart's track reads up
-    to ~0.3 m/s of jitter (``nav.walks.STRIDING``)."""
     near_distance: float = Field(0.5, gt=0)
     """Body to body, m, inside which no motion towards the person is allowed (issue 28: "never
     drive towards a person nearer than 0.5 m"): the share of the twist towards them is removed,

@@ -8,7 +8,7 @@ the twist_mux and the wheels, judged on the base controller's beat. In order:
 1. the e-stop, checked by the base controller before any guard (unchanged);
 2. this guard: with a person (``hw.people.Person``, at least ``min_confidence``) nearer than
    ``still_distance`` body to body the base does not move at all for ``still_wait`` (they came
-   to it: wait them out; someone walking, however long), then only sideways or away; nearer than ``slow_distance``, the whole twist is scaled so the linear speed is at most
+   to it: wait them out), then only sideways or away; nearer than ``slow_distance``, the whole twist is scaled so the linear speed is at most
    ``slow_speed`` (the path's curvature kept, as the monitor's slowdown does); then, for every
    person nearer than ``near_distance``, the component of the linear motion towards them is
    removed (sideways and away still pass; turning on the spot sweeps nothing with a circular
@@ -90,13 +90,13 @@ class PeopleGuard:
         speed = math.hypot(twist.vx, twist.vy)
         rel = self._relative()
         near = self._near(rel)
-        soon, walking = self._soonest_gap(rel)
+        soon = self._soonest_gap(rel)
         close = soon < self.config.still_distance
         if not close:
             self._still_since = None
         elif self._still_since is None:
             self._still_since = now
-        if close and (speed >= MOVING or twist.wz) and (walking or now - self._still_since < self.config.still_wait):
+        if close and (speed >= MOVING or twist.wz) and now - self._still_since < self.config.still_wait:
             self.verdict = PeopleVerdict(STILL, 0.0, float(near[1].min()) if near is not None else soon)
             return Twist(0.0, 0.0, 0.0)
         if speed < MOVING or near is None:
@@ -124,7 +124,7 @@ class PeopleGuard:
         return np.array([[p.x - r.x, p.y - r.y, p.vx, p.vy, p.radius] for p in self.people()
                          if p.confidence >= self.config.min_confidence]).reshape(-1, 5)
 
-    def _soonest_gap(self, rel: np.ndarray) -> tuple[float, bool]:
+    def _soonest_gap(self, rel: np.ndarray) -> float:
         """The least body-to-body distance to anyone, now or where their walk takes them within
         ``still_lookahead`` (a grower crossing at 0.8 m/s closes 0.08 m per base tick, and the
         tracker sees them a scan late); inf with nobody about. Someone walking straight at the
@@ -133,16 +133,13 @@ class PeopleGuard:
         being walked into standing still is theirs. Getting out of a walker's way is the
         navigator's, while they are still metres off (``nav.refuge``). Such a walker used to be
         stepped away from here: in safety.people's traces (seed 1 at 116 s) the step ended with
-        a cart that does not yield 0.17 m into the body of a robot still moving. Also whether
-        anyone that close walks (``still_walking``): they are waited out however long."""
+        a cart that does not yield 0.17 m into the body of a robot still moving."""
         if not len(rel):
-            return math.inf, False
+            return math.inf
         t = np.linspace(0.0, self.config.still_lookahead, 4)
         x = rel[:, None, 0] + rel[:, None, 2] * t
         y = rel[:, None, 1] + rel[:, None, 3] * t
-        gaps = (np.hypot(x, y) - rel[:, None, 4]).min(axis=1) - self.radius
-        walking = np.hypot(rel[:, 2], rel[:, 3]) > self.config.still_walking
-        return float(gaps.min()), bool(np.any(walking & (gaps < self.config.still_distance)))
+        return float((np.hypot(x, y) - rel[:, None, 4]).min() - self.radius)
 
     def _near(self, rel: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
         """Unit directions to the people that count (base frame, (P, 2)) and their body-to-body

@@ -90,22 +90,6 @@ def test_someone_passing_close_by_or_walking_into_the_robot_counts_as_there_alre
     assert g.judge(Twist(0.0, -0.1, 0.0), 5.0) == Twist(0.0, 0.0, 0.0) and g.verdict.action == STILL
 
 
-def test_someone_walking_past_at_arms_length_is_stood_still_for_however_long_someone_stood_there():
-    """Seed 1, 2,271 s: a grower who stopped beside the robot had run ``still_wait`` out, and the
-    robot stepped away 0.12 m from one walking past who does not yield."""
-    standing, wait = at(0.0, -0.62), PeopleGuardConfig().still_wait  # 0.20 m beside it, stopped for it
-    back = Twist(-0.1, 0.0, 0.0)  # aside from them, away from the other
-    people = (standing,)
-    g = PeopleGuard(PeopleGuardConfig(), lambda: Pose2D(), R, lambda: people)
-    assert g.judge(back, 0.0) == Twist(0.0, 0.0, 0.0)
-    assert g.judge(back, wait + 1.0) == back  # waited out: aside passes
-    people = (standing, Person(2, 0.45, 0.35, 0.0, 1.1, 0.2, 0.9))  # walking by, 0.15 m off
-    for now in (wait + 1.5, wait + 30.0):
-        assert g.judge(back, now) == Twist(0.0, 0.0, 0.0) and g.verdict.action == STILL
-    people = (standing, Person(2, 0.45, 0.35, 0.0, 0.25, 0.2, 0.9))  # a paused cart's jitter is standing
-    assert g.judge(back, wait + 31.0) == back
-
-
 def test_two_people_either_side_ahead_stop_the_robot_between_them():
     g = guard(at(0.5, 0.5), at(0.5, -0.5))
     out = g.judge(Twist(0.15, 0.0, 0.0))
