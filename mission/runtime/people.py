@@ -58,6 +58,7 @@ from nav.frames import compose, inverse, transform_points
 from nav.grid_geometry import GridGeometry, paste
 from nav.occupancy import FREE, FREE_MAX, OCCUPIED_MIN, UNKNOWN, OccupancyMap
 from nav.structure import long_components
+from nav.walks import STRIDING
 from perception.people.config import PeopleConfig
 from perception.people.explained import StaticScene
 from perception.people.legs import LegShapes, find as find_legs
@@ -99,10 +100,6 @@ REBORN = 0.8
 """A track this near where a person's was lost, and not shown a person itself, is theirs, m: the
 gate of the tracker (``PeopleConfig.gate``), a step and a half."""
 
-STANDING = 0.4
-"""A person slower than this stands, m/s (``nav.walks.STRIDING``: a paused cart's track reads up to
-~0.3 m/s of jitter); where they stood is remembered for ``_carry``."""
-
 FAULT_LOG_GAP = 60.0
 """A failing tracker is logged at most this often, s (with its traceback)."""
 
@@ -134,7 +131,8 @@ class People:
         """Where a person's track was lost: x, y, when, their id (None: their track went on
         elsewhere, ``_carry``)."""
         self._stood: dict[int, tuple[float, float, float]] = {}
-        """Per person shown: where their track last stood still (``STANDING``), and when."""
+        """Per person shown: where their track last stood still (slower than ``STRIDING``: a
+        paused cart's track reads up to ~0.3 m/s of jitter), and when."""
         self._alias: dict[int, int] = {}
         """Tracker id -> the id it goes by: a lost person's, for the track born where they were lost."""
         self._raw: dict[int, int] = {}
@@ -284,12 +282,12 @@ class People:
         stopped for the robot, was nobody (held-out seed 3, 244-249 s: the robot drove up to
         0.13 m of it and waited there 40 s while its grower waited for it).
 
-        A person's track that leaves where it stood still (``_walked_off``) leaves that place the same
-        way, their id going on with the track: a thing there not shown a person is one, under
-        its own id. A cart pusher paused at the end of their aisle, and a grower walking past
-        them drew the track off onto themselves (one blob as they passed); the cart stayed as a
-        track never shown a person, and the robot drove along it at 0.08 m (safety.people seed 1,
-        274-282 s, arm over the cart)."""
+        A person's track that leaves where it stood still (``_walked_off``) leaves that place
+        the same way, their id going on with the track: a thing there not shown a person is
+        one, under its own id. A cart pusher paused at the end of their aisle, and a grower
+        walking past them drew the track off onto themselves (one blob as they passed); the
+        cart stayed a track never shown a person, and the robot drove along it at 0.08 m
+        (safety.people seed 1, 274-282 s, the arm over the cart)."""
         live = {p.id for p in raw}
         self._gone = [g for g in self._gone if stamp - g[2] <= REMEMBER]
         self._gone += [(x, y, stamp, k) for k, (x, y) in shown.items() if self._raw.get(k) not in live]
@@ -311,7 +309,8 @@ class People:
         self._walked_off(stamp, tracks, shown)
         return tracks
 
-    def _walked_off(self, stamp: float, tracks: Sequence[Person], shown: dict[int, tuple[float, float]]) -> None:
+    def _walked_off(self, stamp: float, tracks: Sequence[Person],
+                    shown: dict[int, tuple[float, float]]) -> None:
         """Remember where each person shown stands still; once their track is ``REBORN`` from
         there (they walked off, or were drawn off onto someone passing), the place is one a
         person was lost from (``_gone``, no id: theirs goes on with the track)."""
@@ -319,7 +318,7 @@ class People:
         for p in tracks:
             if p.id not in shown:
                 continue
-            if math.hypot(p.vx, p.vy) < STANDING:
+            if math.hypot(p.vx, p.vy) < STRIDING:
                 stood[p.id] = (p.x, p.y, stamp)
             elif p.id in self._stood:
                 x, y, when = self._stood[p.id]
