@@ -287,7 +287,7 @@ class People:
         one, under its own id. A cart pusher paused at the end of their aisle, and a grower
         walking past them drew the track off onto themselves (one blob as they passed); the
         cart stayed a track never shown a person, and the robot drove along it at 0.08 m
-        (safety.people seed 1, 274-282 s, the arm over the cart)."""
+        (safety.people seed 1, 274-282 s)."""
         live = {p.id for p in raw}
         self._gone = [g for g in self._gone if stamp - g[2] <= REMEMBER]
         self._gone += [(x, y, stamp, k) for k, (x, y) in shown.items() if self._raw.get(k) not in live]
