@@ -124,6 +124,12 @@ from perception.camera_pipeline import CameraPipeline
 from perception.flower_detector import FlowerDetector
 from perception.tag_reader import TagReader
 
+HOME_TRIES = 5
+"""Attempts at the drive home (``nav_timeout`` each), more than a pot's ``retries``: a pot not
+reached is tried again later, but a robot not home is left standing in an aisle, in the growers'
+way (safety.people seed 1, 1,725-1,845 s: its two minutes went on a cart and a crossing walker,
+and the second try ran out 3 m from the dock, driving)."""
+
 
 @dataclass
 class PatrolTree:
@@ -210,12 +216,14 @@ class PatrolTree:
         return Timeout(f"{child.name} (timeout)", child, self.clock, duration)
 
     def _drive(self, name: str, goal: Callable[[], Pose2D], on_start: Callable[[], None] = lambda: None,
-               xy_tolerance: float | None = None) -> Retry:
+               xy_tolerance: float | None = None, tries: int | None = None) -> Retry:
+        """Drive to ``goal``, ``tries`` attempts (the mission's ``retries`` when None)."""
         attempt = self._timed(NavigateTo(name, self.nav, goal, self.clock, on_start, xy_tolerance), self.mission.nav_timeout)
         if self.gate is not None:  # the aisles first, outside the drive's time limit: a wait may be long
             attempt = Sequence(f"{name} (aisles)", memory=True, children=[
                 EnterAisles(f"aisles for {name}", self.gate, self.nav, goal, self.clock, self._lengths_from, RETRY), attempt])
-        return Retry(f"{name} (x{self.mission.retries})", attempt, self.mission.retries)
+        tries = self.mission.retries if tries is None else tries
+        return Retry(f"{name} (x{tries})", attempt, tries)
 
     def _arm(self, name: str, goal: Callable[[], tuple[object, str]]) -> Timeout:
         return self._timed(MoveArm(name, self.robot.arm, goal), self.config.arm_timeout)
@@ -266,7 +274,7 @@ class PatrolTree:
 
     def _to_dock(self, name: str) -> Retry:
         home = self.mission.home
-        return self._drive(name, lambda: Pose2D(home.x, home.y, home.yaw))
+        return self._drive(name, lambda: Pose2D(home.x, home.y, home.yaw), tries=HOME_TRIES)
 
 
     def _build(self) -> Behaviour:

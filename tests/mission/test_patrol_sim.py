@@ -20,6 +20,7 @@ from arm.presets import preset
 from mission.jobs.patrol import PatrolRun, run_to_end
 from mission.jobs.sim_patrol import start_sim_patrol
 from mission.patrol.mission_file import Mission, mission_from_world
+from mission.patrol.tree import HOME_TRIES
 from mission.runtime.config import load_config
 from nav.map_io import load_map
 from sim.world import Obstacle, World, load_default_world
@@ -89,6 +90,10 @@ def test_the_default_patrol_ends_home_with_the_arm_parked(default_patrol):
     _, p = default_patrol
     assert p.home_error < 0.25  # the goal checker's tolerance
     assert p.arm_home
+    # more tries home than at a pot: a robot not home stands in an aisle
+    drive = [n for n in p.run.tree.root.iterate() if n.name.startswith("drive home (x")]
+    assert drive and all(n.name == f"drive home (x{HOME_TRIES})" for n in drive)
+    assert HOME_TRIES > mission_from_world(load_default_world()).retries
 
 
 @pytest.mark.slow
