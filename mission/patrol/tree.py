@@ -128,7 +128,7 @@ HOME_TRIES = 5
 """Attempts at the drive home (``nav_timeout`` each), more than a pot's ``retries``: a pot not
 reached is tried again later, but a robot not home is left standing in an aisle, in the growers'
 way (safety.people seed 1, 1,725-1,845 s: its two minutes went on a cart and a crossing walker,
-and the second try ran out 3 m from the dock, driving)."""
+and the second try ran out 1.6 m from the dock, driving)."""
 
 
 @dataclass
