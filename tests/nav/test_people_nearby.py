@@ -55,3 +55,19 @@ def test_a_way_into_the_lane_of_a_walker_coming_is_seen_before_the_robot_is_in_i
     assert not nearby.lane_ahead(behind, west - [0.0, 3.5])
     near = PeopleNearby(CFG, lambda: [Person(1, 0.0, 2.6, 0.0, 0.7, 0.45, 1.0)], Pose2D)
     assert not near.lane_ahead(robot, west)  # within arm's length: the touching rule's, not this
+
+
+def test_the_way_back_of_someone_paused_at_the_end_of_their_walk_is_their_lane_too():
+    """A cart pusher walked south down a cross aisle and paused at its end: they walk back up it.
+    The robot's way into the aisle north of them waits; with them standing for good, it does not."""
+    now = [0.0]
+    people = [Person(1, 0.0, 0.5, 0.0, -0.7, 0.45, 1.0)]
+    nearby = PeopleNearby(CFG, lambda: people, Pose2D)
+    nearby.people.clock = lambda: now[0]
+    nearby.counted()  # walking south: their walk is remembered
+    people[:] = [Person(1, 0.0, 0.0, 0.0, 0.0, 0.45, 1.0)]
+    robot = Pose2D(1.2, 2.5, 0.0)
+    west = np.column_stack([np.linspace(1.2, 0.7, 11), np.full(11, 2.5)])
+    assert not nearby.in_lane(robot) and nearby.lane_ahead(robot, west)
+    now[0] = 60.0  # paused a minute: standing, not turning round
+    assert not nearby.lane_ahead(robot, west)
