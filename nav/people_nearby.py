@@ -22,7 +22,7 @@ from hw.people import Person, PeopleSource
 from nav.config import NavConfig
 from nav.costmap.grid import CostGrid
 from nav.frames import transform_points
-from nav.refuge import TOUCH, refuge_heading  # TOUCH: also ``in_lane``'s margin within ``wait_clearance``
+from nav.refuge import PACE, TOUCH, refuge_heading  # TOUCH: also ``in_lane``'s margin within ``wait_clearance``
 from nav.walks import WALKING, walks_of
 
 #: Speed of a step out of a person's way within ``wait_clearance`` (1 m) of them, m/s: issue
@@ -99,7 +99,9 @@ class PeopleNearby:
 
     def _lanes(self, here: np.ndarray, paused: bool = False) -> list[tuple[Person, np.ndarray, np.ndarray]]:
         """Each person walking towards ``here`` (odom) with their lane: where they are and where
-        ``lane_time`` of walking takes them, headed where they walked (``nav.walks``: the tracker's
+        ``lane_time`` of walking takes them at ``PACE`` at least (as ``nav.refuge`` reads a lane:
+        read at a 0.7 m/s cart's own pace, 2.8 m, the robot found itself in its lane 4 s before it
+        arrived, too late to clear the 1 m it needed at 0.3 m/s, held-out seed 4, 1,228 s), headed where they walked (``nav.walks``: the tracker's
         heading of a cart swings +-20 deg scan to scan, the lane's end by a metre at 3 m); with
         ``paused``, each person paused in their walk too, on it or back, whichever way ``here`` is."""
         out = []
@@ -112,7 +114,8 @@ class PeopleNearby:
                 continue
             if (here - [p.x, p.y]) @ v > 0.0:
                 a = np.array([p.x, p.y])
-                out.append((p, a, a + v * self.layer.lane_time))
+                speed = float(np.hypot(*v))
+                out.append((p, a, a + v * self.layer.lane_time * max(speed, PACE) / max(speed, 1e-9)))
         return out
 
     def _lane_width(self, person: Person, here: np.ndarray) -> float:
