@@ -99,11 +99,12 @@ class PeopleNearby:
 
     def _lanes(self, here: np.ndarray, paused: bool = False) -> list[tuple[Person, np.ndarray, np.ndarray]]:
         """Each person walking towards ``here`` (odom) with their lane: where they are and where
-        ``lane_time`` of walking takes them at ``PACE`` at least (as ``nav.refuge`` reads a lane:
-        read at a 0.7 m/s cart's own pace, 2.8 m, the robot found itself in its lane 4 s before it
-        arrived, too late to clear the 1 m it needed at 0.3 m/s, held-out seed 4, 1,228 s), headed where they walked (``nav.walks``: the tracker's
-        heading of a cart swings +-20 deg scan to scan, the lane's end by a metre at 3 m); with
-        ``paused``, each person paused in their walk too, on it or back, whichever way ``here`` is."""
+        ``lane_time`` of walking takes them at ``PACE`` at least, as ``nav.refuge`` reads a lane
+        (read at a 0.7 m/s cart's own pace, 2.8 m, the robot found itself in its lane 4 s before
+        it arrived, too late to clear the 1 m it needed at 0.3 m/s: held-out seed 4, 1,228 s),
+        headed where they walked (``nav.walks``: the tracker's heading of a cart swings +-20 deg
+        scan to scan, the lane's end by a metre at 3 m); with ``paused``, each person paused in
+        their walk too, on it or back, whichever way ``here`` is."""
         out = []
         for p in self.counted():
             if math.hypot(p.vx, p.vy) > WALKING:
@@ -156,9 +157,16 @@ class PeopleNearby:
         return Twist(v * (c * u[0] + s * u[1]), v * (-s * u[0] + c * u[1]), 0.0)
 
     def _segments(self, people: list[Person], reach: float | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """Each person now and ``reach`` seconds on (``predict_time`` when None), odom frame."""
+        """Each person now and ``reach`` seconds on (``predict_time`` when None), odom frame; a
+        ``reach`` of walking at ``PACE`` at least, as ``_lanes`` reads a lane (the step out of a
+        lane must reach as far as the lane it steps out of)."""
         t = self.layer.predict_time if reach is None else reach
-        odom = np.array([[p.x, p.y, p.x + p.vx * t, p.y + p.vy * t] for p in people])
+        rows = []
+        for p in people:
+            speed = math.hypot(p.vx, p.vy)
+            k = t * max(speed, PACE) / speed if reach is not None and speed > WALKING else t
+            rows.append([p.x, p.y, p.x + p.vx * k, p.y + p.vy * k])
+        odom = np.array(rows)
         return odom[:, :2], odom[:, 2:]
 
 

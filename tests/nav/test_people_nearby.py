@@ -79,3 +79,7 @@ def test_a_slow_carts_lane_reaches_as_far_as_a_walkers_pace_would():
     cart = Person(1, 0.0, 0.0, 0.0, 0.7, 0.45, 1.0)
     nearby = PeopleNearby(CFG, lambda: [cart], Pose2D)
     assert nearby.in_lane(Pose2D(0.0, 3.9, 0.0)) and not nearby.in_lane(Pose2D(0.0, 5.1, 0.0))
+    # and the step out of it reaches as far: the robot steps, it does not stand in the lane
+    floor = CostGrid.filled(120, 120, 0.05, -3.0, 0.9)
+    twist = nearby.evade(Pose2D(0.0, 3.9, 0.0), floor, reach=CFG.costmap.global_costmap.people.lane_time)
+    assert abs(twist.vx) > 0.1
