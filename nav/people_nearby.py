@@ -86,7 +86,7 @@ class PeopleNearby:
         late (held-out seed 4, 921-929 s: the robot went into a cross aisle 3.9 m ahead of a cart
         that does not yield, stepped out of its lane one way then the other as the heading read
         swung, and the cart ran it over). Held at the lane's edge, it crosses behind them. The
-        lane of someone paused at the end of their walk too, the way back as well as on: a cart
+        lane of someone paused at the end of their walk too, their way back: a cart
         pusher pausing at the south end of a cross aisle walked north up it behind the robot
         driving the same way, and shoved it 2 m (held-out seed 4, 1,466-1,477 s)."""
         here = np.array([odom.x, odom.y])
@@ -104,13 +104,14 @@ class PeopleNearby:
         it arrived, too late to clear the 1 m it needed at 0.3 m/s: held-out seed 4, 1,228 s),
         headed where they walked (``nav.walks``: the tracker's heading of a cart swings +-20 deg
         scan to scan, the lane's end by a metre at 3 m); with ``paused``, each person paused in
-        their walk too, on it or back, whichever way ``here`` is."""
+        their walk too, walking back the way they came (people pace; the way on from the end of
+        an aisle swept the cross aisle beyond it, where the robot was held at every pause)."""
         out = []
         for p in self.counted():
             if math.hypot(p.vx, p.vy) > WALKING:
                 v = np.array(self.people.last(p))
             elif paused and (walk := self.people.paused(p)) is not None:
-                v = np.array(walk) * np.sign((here - [p.x, p.y]) @ walk)
+                v = -np.array(walk)  # they turn and walk back the way they came
             else:
                 continue
             if (here - [p.x, p.y]) @ v > 0.0:

@@ -7,9 +7,9 @@ and the report's ``people`` list (``mission.patrol.person_encounters``) read
 perception.
 
 The tracker needs to know what the greenhouse itself explains, so that a pot is not a person:
-the structure of the map as it stood when the patrol started plus the pots the mission lists
+the map as it stood when the patrol started plus the pots the mission lists
 (``perception.people.explained.StaticScene``: not the live SLAM map as it is, which writes in a
-worker who stands still; nor the small things of the first map, ``first_and_structure``). So the tracker runs once the patrol says which pots it knows
+worker who stands still). So the tracker runs once the patrol says which pots it knows
 (``watch``), with the map of the first tick that has one (SLAM's first map from the dock, or the
 saved one AMCL localises on). A patrol mapping from the dock has seen little of its walls then,
 and every wall it meets later, broken into short arcs by the pots in front and grazing angles,
@@ -31,8 +31,8 @@ Nor by the tracker's speed alone: a box's seen centre shifts by up to half its w
 drives past it, which the filter reads as a few tenths of a m/s; a body that moved half a metre
 has walked. A crouching worker who has not moved since the robot saw them is one low block to
 the lidar, the same as a crate: an obstacle with today's distances until they move, the collision
-monitor's stop zone as ever, and a person's berth in the plan where the aisle has room for it
-(``things``, ``nav.costmap.caution``).
+monitor's stop zone as ever, and, tracked (not in the first map), a person's berth in the plan
+where the aisle has room for it (``things``, ``nav.costmap.caution``).
 
 ========  ======  =======================================================
 task      rate    why
@@ -189,9 +189,10 @@ class People:
         return self._shown
 
     def things(self) -> Sequence[Person]:
-        """The tracks not shown to be people (nor another robot): what the greenhouse does not
-        explain, a crate or a worker crouching since before the robot came, whom the global
-        costmap gives a person's berth where there is room (``nav.costmap.caution``)."""
+        """The tracks not shown to be people (nor another robot): what neither the map the patrol
+        started with nor the known pots explain, a crate put down since, a moved pot, someone
+        who has yet to walk or show legs, whom the global costmap gives a person's berth where
+        there is room (``nav.costmap.caution``)."""
         return self._things
 
     def legged(self, track: int) -> bool:
@@ -224,7 +225,7 @@ class People:
             self._left |= self._first.occupied() & seen_free(live, self._first.geometry, self.config.margin)
             structure = without(live, self._tracked_in_map(), self.config.margin, self._floor)
             cells = Cells(live.geometry, first_and_structure(self._first, live, self.config.max_extent, self._left,
-                                                             structure=structure, run=self.config.structure_run))
+                                                             structure=structure))
             self.scene = StaticScene(cells, self._pots, self._pot_radius, self.config.margin)
         if self.scene is None:
             return  # no map yet: a pot unexplained would be a person
@@ -373,22 +374,13 @@ class Cells:
 
 
 def first_and_structure(first: OccupancyMap, live: OccupancyMap, max_extent: float, left: np.ndarray | None = None,
-                        gap: float = 0.1, structure: OccupancyMap | None = None,
-                        run: float | None = None) -> np.ndarray:
-    """On ``live``'s grid: the structure (``nav.structure``: components whose bounding box's
-    diagonal exceeds ``max_extent`` once gaps up to ``gap`` are closed) of the first map but its
-    cells ``left`` (on the first map's grid: seen free since), and of ``structure``, a map on
-    ``live``'s grid (``live`` itself by default; the tracks cut out of it, ``without``); with
-    ``run``, only their straight runs that long (``nav.structure.straight_runs``).
-
-    Only the first map's structure: something small it held is no more the greenhouse than
-    something small met later. A worker crouching at a bench since before the patrol began was
-    explained away with the first map, so never tracked, and the robot drove past them at
-    0.11 m (safety.people seed 1); tracked, they are given a person's berth where there is room
-    (``nav.costmap.caution``), and shown a person once they move."""
+                        gap: float = 0.1, structure: OccupancyMap | None = None) -> np.ndarray:
+    """On ``live``'s grid: the first map's occupied cells but those ``left`` (on the first map's
+    grid: seen free since), and the structure (``nav.structure``: components whose bounding box's
+    diagonal exceeds ``max_extent`` once gaps up to ``gap`` are closed) of ``structure``, a map on
+    ``live``'s grid (``live`` itself by default; the tracks cut out of it, ``without``)."""
     kept = first.occupied() if left is None else first.occupied() & ~left
-    first_long = long_components(first, max_extent, gap, run) & kept
-    return long_components(structure or live, max_extent, gap, run) | paste(first_long, first.geometry, live.geometry, False)
+    return long_components(structure or live, max_extent, gap) | paste(kept, first.geometry, live.geometry, False)
 
 
 def floor_seen(live: OccupancyMap, before: np.ndarray | None, on: GridGeometry | None) -> np.ndarray:

@@ -2,14 +2,13 @@
 does not explain (issue 28 item 2).
 
 The person tracker's tracks not shown to be people (``mission.runtime.people``: they have
-neither walked nor shown legs) are things neither the map the patrol started with explains as
-structure nor the mission knows as pots: a crate, a moved pot, a worker crouching at a bench
-since before the robot left its dock. To the lidar a crouching worker is one low block, the same
-as a crate, and the person rules cannot hold for a track that may be a crate: with a person's
-keep-out round every such track, the box-in-aisle and moved-pot scenarios lost their pots (the
-approach poses stand within it). With the inflation's thin halo alone (the seed's 0.25 m, which
-the pots' approach poses need), paths skim them: safety.people seed 1, the robot drove by a
-worker crouching in a 1.9 m cross aisle at 0.11 m body to body.
+neither walked nor shown legs) are things neither the map the patrol started with nor the
+mission's pots explain: a crate put down since, a moved pot, a worker who has yet to move. To the
+lidar a crouching worker is one low block, the same as a crate, and the person rules cannot
+hold for a track that may be a crate: with a person's keep-out round every such track, the
+box-in-aisle and moved-pot scenarios lost their pots (the approach poses stand within it). With
+the inflation's thin halo alone (the seed's 0.25 m, which the pots' approach poses need), paths
+skim them.
 
 The issue's rule for these is "treated as a person until shown otherwise", so the global
 costmap prices a person's passing clearance round each without forbidding it: a cost that falls
@@ -17,7 +16,9 @@ from ``HIGH`` at the robot's body touching the thing to nothing at the person la
 ``clearance`` (0.3 m) body to body, never inscribed or lethal. NavFn pays ``FACTOR`` a unit to
 cross it, so a plan keeps the whole berth wherever the aisle is wide enough, takes what there is
 in a narrower one, and still ends at a pose beside the thing. Only the global costmap has it:
-MPPI follows the plan, and the local costmap's inflation is what it must never cross.
+MPPI follows the plan, and the local costmap's inflation is what it must never cross. What the
+first map held is explained, not tracked, and gets no berth (safety.people seed 1: a worker
+crouching 5 cm from a divider since before the patrol, passed at 0.11 m).
 """
 from __future__ import annotations
 

@@ -50,10 +50,6 @@ class PeopleConfig(Strict):
     """A body wider than this (bounding-box diagonal) is not a person, m: a wall, a row of
     unmapped things. The widest person is a 1.2 m cart 0.6 m deep with its pusher's legs behind
     (diagonal ~1.5 m)."""
-    structure_run: float = Field(1.3, gt=0)
-    """A straight run of the map at least this long is structure (walls, dividers, benches), m:
-    longer than any side of a person's outline (the 1.2 m cart), so a worker crouching against a
-    wall is not taken in with it (``nav.structure.straight_runs``)."""
     depth: float = Field(0.07, ge=0)
     """The lidar sees the near side of a body: its centre is put this far behind what was seen,
     away from the robot, and its radius grows by as much, m (a leg's radius, 0.07)."""
