@@ -22,7 +22,7 @@ from hw.people import Person, PeopleSource
 from nav.config import NavConfig
 from nav.costmap.grid import CostGrid
 from nav.frames import transform_points
-from nav.refuge import PACE, TOUCH, refuge_heading  # TOUCH: also ``in_lane``'s margin within ``wait_clearance``
+from nav.refuge import TOUCH, refuge_heading  # TOUCH: also ``in_lane``'s margin within ``wait_clearance``
 from nav.walks import WALKING, walks_of
 
 #: Speed of a step out of a person's way within ``wait_clearance`` (1 m) of them, m/s: issue
@@ -99,11 +99,9 @@ class PeopleNearby:
 
     def _lanes(self, here: np.ndarray, paused: bool = False) -> list[tuple[Person, np.ndarray, np.ndarray]]:
         """Each person walking towards ``here`` (odom) with their lane: where they are and where
-        ``lane_time`` of walking takes them at ``PACE`` at least, as ``nav.refuge`` reads a lane
-        (read at a 0.7 m/s cart's own pace, 2.8 m, the robot found itself in its lane 4 s before
-        it arrived, too late to clear the 1 m it needed at 0.3 m/s: held-out seed 4, 1,228 s),
-        headed where they walked (``nav.walks``: the tracker's heading of a cart swings +-20 deg
-        scan to scan, the lane's end by a metre at 3 m); with ``paused``, each person paused in
+        ``lane_time`` of walking takes them, headed where they walked (``nav.walks``: the
+        tracker's heading of a cart swings +-20 deg scan to scan, the lane's end by a metre at
+        3 m); with ``paused``, each person paused in
         their walk too, walking back the way they came (people pace; the way on from the end of
         an aisle swept the cross aisle beyond it, where the robot was held at every pause)."""
         out = []
@@ -116,8 +114,7 @@ class PeopleNearby:
                 continue
             if (here - [p.x, p.y]) @ v > 0.0:
                 a = np.array([p.x, p.y])
-                speed = float(np.hypot(*v))
-                out.append((p, a, a + v * self.layer.lane_time * max(speed, PACE) / max(speed, 1e-9)))
+                out.append((p, a, a + v * self.layer.lane_time))
         return out
 
     def _lane_width(self, person: Person, here: np.ndarray) -> float:
@@ -158,16 +155,9 @@ class PeopleNearby:
         return Twist(v * (c * u[0] + s * u[1]), v * (-s * u[0] + c * u[1]), 0.0)
 
     def _segments(self, people: list[Person], reach: float | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """Each person now and ``reach`` seconds on (``predict_time`` when None), odom frame; a
-        ``reach`` of walking at ``PACE`` at least, as ``_lanes`` reads a lane (the step out of a
-        lane must reach as far as the lane it steps out of)."""
+        """Each person now and ``reach`` seconds on (``predict_time`` when None), odom frame."""
         t = self.layer.predict_time if reach is None else reach
-        rows = []
-        for p in people:
-            speed = math.hypot(p.vx, p.vy)
-            k = t * max(speed, PACE) / speed if reach is not None and speed > WALKING else t
-            rows.append([p.x, p.y, p.x + p.vx * k, p.y + p.vy * k])
-        odom = np.array(rows)
+        odom = np.array([[p.x, p.y, p.x + p.vx * t, p.y + p.vy * t] for p in people])
         return odom[:, :2], odom[:, 2:]
 
 

@@ -72,14 +72,3 @@ def test_the_way_back_of_someone_paused_at_the_end_of_their_walk_is_their_lane_t
     now[0] = 60.0  # paused a minute: standing, not turning round
     assert not nearby.lane_ahead(robot, west)
 
-
-def test_a_slow_carts_lane_reaches_as_far_as_a_walkers_pace_would():
-    """A cart at 0.7 m/s 3.9 m off and coming: its own 4 s reach ends 1.1 m short of the robot,
-    a walker's pace (1 m/s) reaches it. The robot is in its lane now, with time to clear it."""
-    cart = Person(1, 0.0, 0.0, 0.0, 0.7, 0.45, 1.0)
-    nearby = PeopleNearby(CFG, lambda: [cart], Pose2D)
-    assert nearby.in_lane(Pose2D(0.0, 3.9, 0.0)) and not nearby.in_lane(Pose2D(0.0, 5.1, 0.0))
-    # and the step out of it reaches as far: the robot steps, it does not stand in the lane
-    floor = CostGrid.filled(120, 120, 0.05, -3.0, 0.9)
-    twist = nearby.evade(Pose2D(0.0, 3.9, 0.0), floor, reach=CFG.costmap.global_costmap.people.lane_time)
-    assert abs(twist.vx) > 0.1
