@@ -8,8 +8,7 @@ the twist_mux and the wheels, judged on the base controller's beat. In order:
 1. the e-stop, checked by the base controller before any guard (unchanged);
 2. this guard: with a person (``hw.people.Person``, at least ``min_confidence``) nearer than
    ``still_distance`` body to body the base does not move at all for ``still_wait`` (they came
-   to it: wait them out), then only sideways or away, and not at all while someone walking by
-   is that near (``PASSING``); nearer than ``slow_distance``, the whole twist is scaled so the linear speed is at most
+   to it: wait them out), then only sideways or away; nearer than ``slow_distance``, the whole twist is scaled so the linear speed is at most
    ``slow_speed`` (the path's curvature kept, as the monitor's slowdown does); then, for every
    person nearer than ``near_distance``, the component of the linear motion towards them is
    removed (sideways and away still pass; turning on the spot sweeps nothing with a circular
@@ -38,13 +37,6 @@ from hw.people import PeopleSource, nobody
 
 #: Below this linear speed (m/s) the base only turns: nothing to judge.
 MOVING = 1e-3
-#: Someone at arm's length walking faster than this (m/s) is passing: the base stands still
-#: until they have, however long it has stood (``still_wait`` is for someone standing there,
-#: who came to it and waits). A paused cart's track reads up to ~0.3 m/s of jitter; the sim's
-#: walkers walk 0.6-1.1. Held-out seed 4, 262-268 s: stood still 5 s for a grower who had
-#: stopped for it, the robot stepped away just as a cart that does not yield came by, and moved
-#: with it 0.02 m off.
-PASSING = 0.4
 
 NONE, SLOW, AWAY, STILL = "none", "slow", "away", "still"
 
@@ -104,8 +96,7 @@ class PeopleGuard:
             self._still_since = None
         elif self._still_since is None:
             self._still_since = now
-        passing = close and self._soonest_gap(rel[np.hypot(rel[:, 2], rel[:, 3]) > PASSING]) < self.config.still_distance
-        if close and (speed >= MOVING or twist.wz) and (passing or now - self._still_since < self.config.still_wait):
+        if close and (speed >= MOVING or twist.wz) and now - self._still_since < self.config.still_wait:
             self.verdict = PeopleVerdict(STILL, 0.0, float(near[1].min()) if near is not None else soon)
             return Twist(0.0, 0.0, 0.0)
         if speed < MOVING or near is None:

@@ -76,46 +76,12 @@ class PeopleNearby:
     def in_lane(self, odom: Pose2D) -> bool:
         """Is the robot (at ``odom``) in the lane of someone walking its way (module docstring)?"""
         here = np.array([odom.x, odom.y])
-        return any(to_segment(here, a, b) < self._lane_width(p, here) for p, a, b in self._lanes(here))
-
-    def lane_ahead(self, odom: Pose2D, way: np.ndarray) -> bool:
-        """Would the way (odom points, the plan's next stretch) take a robot at ``odom``, in no
-        lane now, into the lane of someone walking towards it while they are beyond
-        ``wait_clearance``? Crossing a walker's lane takes the robot its width and their keep-out
-        on both sides, ~2 m for a cart; started in front of them, the step back out of it came too
-        late (held-out seed 4, 921-929 s: the robot went into a cross aisle 3.9 m ahead of a cart
-        that does not yield, stepped out of its lane one way then the other as the heading read
-        swung, and the cart ran it over). Held at the lane's edge, it crosses behind them. The
-        lane of someone paused at the end of their walk too, their way back: a cart
-        pusher pausing at the south end of a cross aisle walked north up it behind the robot
-        driving the same way, and shoved it 2 m (held-out seed 4, 1,466-1,477 s)."""
-        here = np.array([odom.x, odom.y])
-        for p, a, b in self._lanes(here, paused=True):
-            if self.gap(p, *here) <= self.layer.wait_clearance:
-                continue  # at arm's length: ``in_lane``'s touching rule, not a lane to keep out of
-            if any(to_segment(q, a, b) < self.keep_out(p) for q in way if (q - a) @ (b - a) > 0.0):
-                return True
-        return False
-
-    def _lanes(self, here: np.ndarray, paused: bool = False) -> list[tuple[Person, np.ndarray, np.ndarray]]:
-        """Each person walking towards ``here`` (odom) with their lane: where they are and where
-        ``lane_time`` of walking takes them, headed where they walked (``nav.walks``: the
-        tracker's heading of a cart swings +-20 deg scan to scan, the lane's end by a metre at
-        3 m); with ``paused``, each person paused in
-        their walk too, walking back the way they came (people pace; the way on from the end of
-        an aisle swept the cross aisle beyond it, where the robot was held at every pause)."""
-        out = []
-        for p in self.counted():
-            if math.hypot(p.vx, p.vy) > WALKING:
-                v = np.array(self.people.last(p))
-            elif paused and (walk := self.people.paused(p)) is not None:
-                v = -np.array(walk)  # they turn and walk back the way they came
-            else:
-                continue
-            if (here - [p.x, p.y]) @ v > 0.0:
-                a = np.array([p.x, p.y])
-                out.append((p, a, a + v * self.layer.lane_time))
-        return out
+        walking = [p for p in self.counted()
+                   if math.hypot(p.vx, p.vy) > WALKING and (here - [p.x, p.y]) @ [p.vx, p.vy] > 0.0]
+        if not walking:
+            return False
+        now, then = self._segments(walking, self.layer.lane_time)
+        return any(to_segment(here, a, b) < self._lane_width(p, here) for p, a, b in zip(walking, now, then))
 
     def _lane_width(self, person: Person, here: np.ndarray) -> float:
         """How near their walk puts the robot in their lane, centre to centre: the keep-out while

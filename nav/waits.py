@@ -12,18 +12,12 @@ from __future__ import annotations
 import logging
 import math
 
-import numpy as np
-
 from hw.interfaces import ZERO_TWIST, Twist
 from hw.odometry import Pose2D
-from nav.frames import inverse, transform_points
 from nav.planner import PlanningError
 
 log = logging.getLogger("nav.navigator")
 
-#: How much of the plan ahead is looked along for a walker's lane, m: a stop's length at the
-#: controller's speed, with room, so the robot halts at the lane's edge, not in it.
-LOOK_AHEAD = 0.5
 #: Why the goal holds while the robot steps out of a walker's lane (``waiting_for``).
 LANE = "out of a walker's way"
 #: The same for a track on another robot of the fleet (``_whom``).
@@ -38,9 +32,8 @@ FINISH = 0.25
 
 
 class Waits:
-    """Mixed into ``nav.navigator.Navigator``: reads its ``io``, ``people``, ``goal``, ``path``,
-    ``localisation``, ``local_costmap``, ``global_costmap``, ``planner``, ``smoother`` and
-    ``config``."""
+    """Mixed into ``nav.navigator.Navigator``: reads its ``io``, ``people``, ``goal``,
+    ``local_costmap``, ``global_costmap``, ``planner``, ``smoother`` and ``config``."""
 
     def _boxed_in(self, now: float, dt: float) -> bool:
         """While every cell round the robot is taken (``StartBlocked``: someone against it), hold
@@ -90,12 +83,9 @@ class Waits:
         return True
 
     def _out_of_a_lane(self, now: float, dt: float) -> bool:
-        """Step out of the lane of someone walking this way while they are still metres off, or
-        stand at its edge while the way ahead goes into it (``nav.people_nearby``); True while
-        stepping or standing (or when the wait ran out)."""
-        odom = self.io.odom_pose()
-        inside = self.people.in_lane(odom)
-        if not (inside or self.people.lane_ahead(odom, self._way_ahead())) or self._finishing():
+        """Step out of the lane of someone walking this way while they are still metres off
+        (``nav.people_nearby``); True while stepping (or when the wait ran out)."""
+        if not self.people.in_lane(self.io.odom_pose()) or self._finishing():
             return False
         why = LANE if self._whom() == "a person" else ROBOT_LANE
         if self.waiting_for != why:
@@ -103,16 +93,8 @@ class Waits:
             self.waiting_for = why
         self.smoother.reset()
         if not self._hold(now, dt, why, self.config.navigator.person_wait):
-            self.io.publish(self._evade(reach=self.people.layer.lane_time) if inside else ZERO_TWIST, now)
+            self.io.publish(self._evade(reach=self.people.layer.lane_time), now)
         return True
-
-    def _way_ahead(self) -> np.ndarray:
-        """The plan's next ``LOOK_AHEAD`` metres from the robot, odom frame (none without a plan)."""
-        if self.path is None or len(self.path) < 2:
-            return np.empty((0, 2))
-        xy = self._ahead(self.map_pose())
-        along = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xy, axis=0).T))])
-        return transform_points(inverse(self.localisation.map_to_odom()), xy[along <= LOOK_AHEAD])
 
     def _finishing(self) -> bool:
         """Is the robot within ``FINISH`` of its goal with everyone beyond ``wait_clearance``?"""

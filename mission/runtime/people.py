@@ -31,8 +31,7 @@ Nor by the tracker's speed alone: a box's seen centre shifts by up to half its w
 drives past it, which the filter reads as a few tenths of a m/s; a body that moved half a metre
 has walked. A crouching worker who has not moved since the robot saw them is one low block to
 the lidar, the same as a crate: an obstacle with today's distances until they move, the collision
-monitor's stop zone as ever, and, tracked (not in the first map), a person's berth in the plan
-where the aisle has room for it (``things``, ``nav.costmap.caution``).
+monitor's stop zone as ever.
 
 ========  ======  =======================================================
 task      rate    why
@@ -122,7 +121,6 @@ class People:
         self.tracks: tuple[Person, ...] = ()
         """The newest people, odom frame."""
         self._shown: tuple[Person, ...] = ()
-        self._things: tuple[Person, ...] = ()
         self.walked: set[int] = set()
         """Ids of the tracks that have walked: people (``confident``)."""
         self.pairs: dict[int, int] = {}
@@ -188,13 +186,6 @@ class People:
         the guard at every base tick and by both costmaps and the navigator."""
         return self._shown
 
-    def things(self) -> Sequence[Person]:
-        """The tracks not shown to be people (nor another robot): what neither the map the patrol
-        started with nor the known pots explain, a crate put down since, a moved pot, someone
-        who has yet to walk or show legs, whom the global costmap gives a person's berth where
-        there is room (``nav.costmap.caution``)."""
-        return self._things
-
     def legged(self, track: int) -> bool:
         """Has the track shown a person's legs (a pair, or a leg arc scan after scan)?"""
         return self.pairs.get(track, 0) >= LEGS_SEEN or sum(self.arcs.get(track, ())) >= LEG_SCANS
@@ -211,7 +202,7 @@ class People:
             if now - self._failed_at >= FAULT_LOG_GAP:
                 log.exception("person tracker failed on a scan (%d so far); people dropped for it", self.failures)
                 self._failed_at = now
-            self.tracks, self._shown, self._things = (), (), ()
+            self.tracks, self._shown = (), ()
 
     def _tick(self) -> None:
         if self._pots is None:
@@ -251,10 +242,9 @@ class People:
         self.walked = {p.id for p in self.tracks if p.id in self.walked
                        or np.hypot(p.x - self._origin[p.id][0], p.y - self._origin[p.id][1]) > WALKED}
         robots = self._robots_in_odom()
-        mine = [p for p in self.tracks if not any(math.hypot(x - p.x, y - p.y) <= ROBOT_REACH for x, y in robots)]
-        person = [p.id in self.walked or p.id in self.inherited or self.legged(p.id) for p in mine]
-        self._shown = tuple(p for p, yes in zip(mine, person) if yes)
-        self._things = tuple(p for p, yes in zip(mine, person) if not yes)
+        self._shown = tuple(p for p in self.tracks
+                            if not any(math.hypot(x - p.x, y - p.y) <= ROBOT_REACH for x, y in robots)
+                            and (p.id in self.walked or p.id in self.inherited or self.legged(p.id)))
 
     def _tracked_in_map(self) -> list[tuple[float, float, float]]:
         """Every track now, shown a person or not yet: (x, y, radius), map frame. Not only the

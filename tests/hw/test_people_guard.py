@@ -90,20 +90,6 @@ def test_someone_passing_close_by_or_walking_into_the_robot_counts_as_there_alre
     assert g.judge(Twist(0.0, -0.1, 0.0), 5.0) == Twist(0.0, 0.0, 0.0) and g.verdict.action == STILL
 
 
-def test_someone_walking_by_at_arms_length_holds_the_robot_however_long_it_has_stood():
-    """``still_wait`` lets a robot step away from someone who came to it and stands there, not
-    from someone walking by: it stands till they have passed."""
-    wait = PeopleGuardConfig().still_wait
-    standing, passing = at(0.0, 0.62), Person(2, -0.5, -0.62, 0.7, 0.0, 0.2, 0.9)
-    g = guard(standing, passing)
-    g.judge(Twist(0.1, 0.0, 0.0), 10.0)
-    assert g.judge(Twist(0.1, 0.0, 0.0), 10.0 + wait + 1.0) == Twist(0.0, 0.0, 0.0)
-    assert g.verdict.action == STILL
-    g = guard(standing, Person(2, -0.2, -0.62, 0.3, 0.0, 0.2, 0.9))  # as near, a paused cart's jitter
-    g.judge(Twist(0.1, 0.0, 0.0), 10.0)
-    assert g.judge(Twist(0.1, 0.0, 0.0), 10.0 + wait + 1.0) == Twist(0.1, 0.0, 0.0)
-
-
 def test_two_people_either_side_ahead_stop_the_robot_between_them():
     g = guard(at(0.5, 0.5), at(0.5, -0.5))
     out = g.judge(Twist(0.15, 0.0, 0.0))

@@ -167,25 +167,6 @@ def test_a_walker_whose_lane_the_robot_is_not_in_does_not_hold_the_goal(walker):
     assert rig.nav.waiting_for != LANE
 
 
-def test_a_walker_about_to_cross_the_way_ahead_is_waited_for_at_the_edge_of_their_lane():
-    """A cart walking south 1.1 m east of the robot, 1.4 m north of its way: the robot is in no
-    lane, but its next half metre goes into theirs. It stands at the edge, not in it, and goes on
-    once they have crossed."""
-    occ = np.zeros_like(one_aisle())
-    occ[0, :] = occ[-1, :] = occ[:, 0] = occ[:, -1] = 100  # open floor
-    coming = Person(18, START.x + 1.1, START.y + 1.4, 0.0, -0.7, 0.2, 0.9)
-    rig = Rig([coming])
-    rig.glob.set_static(occ, RES, 0.0, 0.0)
-    rig.nav.navigate_to(GOAL, 0.0, timeout=60.0)
-    rig.run(1.0)
-    assert rig.nav.active and rig.nav.waiting_for == LANE
-    assert rig.published and all(tw == ZERO_TWIST for _, tw in rig.published)  # stands: no step
-    rig.people[:] = [Person(18, START.x + 1.1, START.y - 1.2, 0.0, -0.7, 0.2, 0.9)]  # crossed, walking on
-    n = len(rig.published)
-    rig.run(2.0, t0=1.05)
-    assert rig.nav.waiting_for != LANE and any(tw.vx > 0.1 for _, tw in rig.published[n:])
-
-
 def test_a_robot_boxed_in_waits_it_out_then_fails_blocked_not_no_path_in_a_blink():
     occ = one_aisle()
     cx, cy = int(START.x / RES), int(START.y / RES)
