@@ -31,9 +31,10 @@ Nor by the tracker's speed alone: a box's seen centre shifts by up to half its w
 drives past it, which the filter reads as a few tenths of a m/s; a body that moved half a metre
 has walked. A crouching worker who has not moved since the robot saw them is one low block to
 the lidar, the same as a crate: an obstacle with today's distances until they move, the collision
-monitor's stop zone as ever. One the scene explains (in the first map, or one component with a
-wall) is never tracked; unless it lies on a straight run of structure or is a known pot, it gets
-a person's berth in the plan where the aisle has room for it (``things``, ``nav.costmap.caution``).
+monitor's stop zone as ever. One within a gap's closing of a wall or a divider is one long
+component with it, so explained, never tracked: the part of a long component that is no straight
+run of it gets a person's berth in the plan where the aisle has room (``things``,
+``nav.costmap.caution``).
 
 ========  ======  =======================================================
 task      rate    why
@@ -114,7 +115,7 @@ STRAIGHT = 1.3
 than any person's outline, a cart's included (1.2 m at most)."""
 
 BLOB_AREA = 0.01
-"""A blob of the scene smaller than this is the map's noise, not a thing, m² (four 5 cm
+"""A blob of the structure smaller than this is the map's noise, not a thing, m² (four 5 cm
 cells: a leg is two or three)."""
 
 RATE = 10.0
@@ -172,7 +173,7 @@ class People:
         self._left: np.ndarray | None = None
         """The first map's occupied cells a later map saw free: someone who stood there left."""
         self._blobs: list[tuple[float, float, float]] = []
-        """What the scene explains that is neither straight structure nor a known pot
+        """The live map's long components' parts that are no straight run of them nor a known pot
         (``nav.structure.odd_blobs``), map frame: never tracked, so given a berth (``things``)."""
         self._live: OccupancyMap | None = None
         self._floor: np.ndarray | None = None
@@ -202,10 +203,12 @@ class People:
         return self._shown
 
     def things(self) -> Sequence[Person]:
-        """What the scene explains that may be someone (``nav.structure.odd_blobs``: neither a
-        straight run of structure nor a known pot), as things standing still, odom frame: never
-        tracked, so given a person's berth by the global costmap where there is room
-        (``nav.costmap.caution``)."""
+        """What the structure explains that may be someone (``nav.structure.odd_blobs``: the
+        parts of the long components that are neither a straight run nor a known pot: a worker
+        crouching against a divider), as things standing still, odom frame: never tracked, so
+        given a person's berth by the global costmap where there is room
+        (``nav.costmap.caution``). Not what stands alone in the first map: the greenhouse as it
+        was (an unknown pot, a crate), which the person rules leave at today's distances."""
         return self._things
 
     def legged(self, track: int) -> bool:
@@ -239,7 +242,8 @@ class People:
             structure = without(live, self._tracked_in_map(), self.config.margin, self._floor)
             cells = Cells(live.geometry, first_and_structure(self._first, live, self.config.max_extent, self._left,
                                                              structure=structure))
-            self._blobs = odd_blobs(cells, self._pots, self._pot_radius + self.config.margin, STRAIGHT,
+            self._blobs = odd_blobs(Cells(live.geometry, long_components(structure, self.config.max_extent)),
+                                    self._pots, self._pot_radius + self.config.margin, STRAIGHT,
                                     self.config.max_extent, BLOB_AREA)
             self.scene = StaticScene(cells, self._pots, self._pot_radius, self.config.margin)
         if self.scene is None:

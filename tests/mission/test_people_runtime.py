@@ -342,13 +342,15 @@ def test_a_thing_where_a_person_stood_still_is_a_person_once_their_track_walks_o
     assert [p for p in shown.values() if p.id != worker.id and math.hypot(p.x - box.x, p.y - box.y) < 0.1]
 
 
-def test_a_worker_crouching_against_a_wall_in_the_first_map_gets_a_berth_and_the_walls_and_pots_do_not():
+def test_a_worker_crouching_against_a_wall_gets_a_berth_and_the_walls_pots_and_a_crate_alone_do_not():
     """Explained by the first map (never tracked) and one long component with the wall, the
-    worker is still no wall: the scene's odd blobs (``nav.structure.odd_blobs``) are handed to the
-    caution layer as things standing still; the straight walls and the known pots are not."""
-    worker = (0.3, 1.0)  # a 0.5 x 0.6 m block, 5 cm from the west wall
+    worker is still no wall: the structure's odd parts (``nav.structure.odd_blobs``) are handed to
+    the caution layer as things standing still; the straight walls, the known pots and a crate
+    standing alone in the first map (the greenhouse as it was) are not."""
+    worker, crate = (0.3, 1.0), (4.0, 4.4)  # a 0.5 x 0.6 m block 5 cm from the west wall; a crate alone
     walls, pots = scene()
-    rig = Rig(mapped(walls.crouching(*worker)), thing=lambda s: s.crouching(*worker))
+    rig = Rig(mapped(walls.crouching(*worker).box(*crate, 0.4, 0.4)),
+              thing=lambda s: s.crouching(*worker).box(*crate, 0.4, 0.4))
     rig.people.watch(pots, POT_RADIUS)
     assert rig.ticks(5) == ()  # explained: not a track
     things = rig.people.things()
