@@ -51,7 +51,7 @@ def attach_navigation(robot: Robot, localisation: Localisation | None = None) ->
         held=lambda: robot.monitor.verdict.holding or people.guard.verdict.holding,
         people=walks,
     )
-    gcm = global_costmap(cfg.costmap, walks, lambda: localisation.map_to_odom(), people.things)
+    gcm = global_costmap(cfg.costmap, walks, lambda: localisation.map_to_odom())
 
     def static_map(m: OccupancyMap) -> None:
         gcm.set_static(m.occupancy, m.resolution, m.origin_x, m.origin_y)

@@ -31,10 +31,7 @@ Nor by the tracker's speed alone: a box's seen centre shifts by up to half its w
 drives past it, which the filter reads as a few tenths of a m/s; a body that moved half a metre
 has walked. A crouching worker who has not moved since the robot saw them is one low block to
 the lidar, the same as a crate: an obstacle with today's distances until they move, the collision
-monitor's stop zone as ever. One within a gap's closing of a wall or a divider is one long
-component with it, so explained, never tracked: the part of a long component that is no straight
-run of it gets a person's berth in the plan where the aisle has room (``things``,
-``nav.costmap.caution``).
+monitor's stop zone as ever.
 
 ========  ======  =======================================================
 task      rate    why
@@ -60,7 +57,7 @@ from hw.people_guard import PeopleGuard
 from nav.frames import compose, inverse, transform_points
 from nav.grid_geometry import GridGeometry, paste
 from nav.occupancy import FREE, FREE_MAX, OCCUPIED_MIN, UNKNOWN, OccupancyMap
-from nav.structure import long_components, odd_blobs
+from nav.structure import long_components
 from nav.walks import STRIDING
 from perception.people.config import PeopleConfig
 from perception.people.explained import StaticScene
@@ -109,15 +106,6 @@ FAULT_LOG_GAP = 60.0
 ROBOT_REACH = 0.45
 """A track this near another robot's centre is that robot, m: its 0.22 m radius, its arm out
 front (the wrist camera ~0.3 m ahead), and what its pose told over the link lags behind."""
-
-STRAIGHT = 1.3
-"""A straight run of the map at least this long is a wall, a divider or a bench, m: longer
-than any person's outline, a cart's included (1.2 m at most)."""
-
-BLOB_AREA = 0.01
-"""A blob of the structure smaller than this is the map's noise, not a thing, m² (four 5 cm
-cells: a leg is two or three)."""
-
 RATE = 10.0
 """Tracker updates per second: the C1's revolutions (a new scan each)."""
 
@@ -133,7 +121,6 @@ class People:
         self.tracks: tuple[Person, ...] = ()
         """The newest people, odom frame."""
         self._shown: tuple[Person, ...] = ()
-        self._things: tuple[Person, ...] = ()
         self.walked: set[int] = set()
         """Ids of the tracks that have walked: people (``confident``)."""
         self.pairs: dict[int, int] = {}
@@ -172,9 +159,6 @@ class People:
         self._first: OccupancyMap | None = None
         self._left: np.ndarray | None = None
         """The first map's occupied cells a later map saw free: someone who stood there left."""
-        self._blobs: list[tuple[float, float, float]] = []
-        """The live map's long components' parts that are no straight run of them nor a known pot
-        (``nav.structure.odd_blobs``), map frame: never tracked, so given a berth (``things``)."""
         self._live: OccupancyMap | None = None
         self._floor: np.ndarray | None = None
         """The live map's cells any map so far saw free: floor, which a person may stand on."""
@@ -189,7 +173,7 @@ class People:
         tracks that have walked), for the report."""
         self._pots = np.asarray(pots_xy, dtype=float).reshape(-1, 2)
         self._pot_radius = pot_radius
-        self.scene, self._first, self._live, self._floor, self._blobs = None, None, None, None, []
+        self.scene, self._first, self._live, self._floor = None, None, None, None
         return self.confident
 
     @property
@@ -201,15 +185,6 @@ class People:
         """The people the distance rules act on (module docstring): chosen once a scan, read by
         the guard at every base tick and by both costmaps and the navigator."""
         return self._shown
-
-    def things(self) -> Sequence[Person]:
-        """What the structure explains that may be someone (``nav.structure.odd_blobs``: the
-        parts of the long components that are neither a straight run nor a known pot: a worker
-        crouching against a divider), as things standing still, odom frame: never tracked, so
-        given a person's berth by the global costmap where there is room
-        (``nav.costmap.caution``). Not what stands alone in the first map: the greenhouse as it
-        was (an unknown pot, a crate), which the person rules leave at today's distances."""
-        return self._things
 
     def legged(self, track: int) -> bool:
         """Has the track shown a person's legs (a pair, or a leg arc scan after scan)?"""
@@ -227,7 +202,7 @@ class People:
             if now - self._failed_at >= FAULT_LOG_GAP:
                 log.exception("person tracker failed on a scan (%d so far); people dropped for it", self.failures)
                 self._failed_at = now
-            self.tracks, self._shown, self._things = (), (), ()
+            self.tracks, self._shown = (), ()
 
     def _tick(self) -> None:
         if self._pots is None:
@@ -242,9 +217,6 @@ class People:
             structure = without(live, self._tracked_in_map(), self.config.margin, self._floor)
             cells = Cells(live.geometry, first_and_structure(self._first, live, self.config.max_extent, self._left,
                                                              structure=structure))
-            self._blobs = odd_blobs(Cells(live.geometry, long_components(structure, self.config.max_extent)),
-                                    self._pots, self._pot_radius + self.config.margin, STRAIGHT,
-                                    self.config.max_extent, BLOB_AREA)
             self.scene = StaticScene(cells, self._pots, self._pot_radius, self.config.margin)
         if self.scene is None:
             return  # no map yet: a pot unexplained would be a person
@@ -273,9 +245,6 @@ class People:
         self._shown = tuple(p for p in self.tracks
                             if not any(math.hypot(x - p.x, y - p.y) <= ROBOT_REACH for x, y in robots)
                             and (p.id in self.walked or p.id in self.inherited or self.legged(p.id)))
-        o2m = inverse(self.map_to_odom())  # the odd blobs, ids below zero (no track's)
-        self._things = tuple(Person(-1 - k, q.x, q.y, 0.0, 0.0, r, 1.0) for k, (x, y, r) in enumerate(self._blobs)
-                             for q in [compose(o2m, Pose2D(x, y, 0.0))])
 
     def _tracked_in_map(self) -> list[tuple[float, float, float]]:
         """Every track now, shown a person or not yet: (x, y, radius), map frame. Not only the

@@ -7,13 +7,11 @@ As Nav2's LayeredCostmap, each update runs the layers in order on a fresh master
    master alone and an observed one replaces an unknown master cell (Nav2's updateWithMax), so
    scans uncover unknown space but never erase the map's walls;
 3. inflation: the halo around every lethal cell (``nav.costmap.inflation``);
-4. caution (global only): a person's passing berth, priced but never a wall, round what the map
-   explains that may be someone (``nav.costmap.caution``: a worker crouching against a divider);
-5. people (both costmaps): tracked people's keep-out discs and falloff written over the
+4. people (both costmaps): tracked people's keep-out discs and falloff written over the
    inflated master (``nav.costmap.people``; after inflation, since a keep-out already counts the
    robot's radius). ``without_people`` is the same master with the people's bodies taken out
    instead: the navigator plans on it to tell "a person is in the only way" from "no way";
-6. robots (both costmaps): the fleet's other robots' footprints, the same way (``nav.costmap.robots``;
+5. robots (both costmaps): the fleet's other robots' footprints, the same way (``nav.costmap.robots``;
    nothing for a robot alone). ``without_people`` leaves them out too: they move on like people.
 
 ``local_costmap`` is the seed's 3 x 3 m window in ``odom`` rolling with the robot: before each
@@ -38,7 +36,6 @@ from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
 from hw.people import PeopleSource, nobody
 from nav.costmap.config import CostmapsConfig, PersonLayerConfig
-from nav.costmap.caution import CautionLayer
 from nav.costmap.grid import FREE, UNKNOWN, CostGrid
 from nav.costmap.inflation import InflationLayer
 from nav.costmap.obstacle import ObstacleLayer
@@ -59,10 +56,9 @@ START_SIZE = 4.0
 class Costmap:
     def __init__(self, frame: CostGrid, obstacle: ObstacleLayer, inflation: InflationLayer,
                  static: StaticLayer | None = None, rolling: bool = False, people: PersonLayer | None = None,
-                 robots: RobotsLayer | None = None, caution: CautionLayer | None = None):
+                 robots: RobotsLayer | None = None):
         self._default = int(frame.data.flat[0])
         self.obstacle, self.inflation, self.static, self.people = obstacle, inflation, static, people
-        self.caution = caution
         self.robots = robots
         self.rolling = rolling
         self._grid = frame.copy()
@@ -150,8 +146,6 @@ class Costmap:
     def _rebuild(self) -> None:
         layer = self.obstacle.grid
         costs = self.inflation.apply(self._merged())
-        if self.caution is not None:
-            costs = self.caution.apply(costs, layer.geometry)
         if self.people is not None:
             costs = self.people.apply(costs, layer.geometry)
         if self.robots is not None:
@@ -194,11 +188,10 @@ def local_costmap(cfg: CostmapsConfig, people: PeopleSource = nobody,
 
 
 def global_costmap(cfg: CostmapsConfig, people: PeopleSource = nobody,
-                   odom_in_map: Callable[[], Pose2D] = Pose2D, things: PeopleSource = nobody) -> Costmap:
-    """The growing map in ``map``, static + obstacle + inflation + caution (``things``: what the
-    map explains that may be someone, ``mission.runtime.people``) + people (the tracker's, in odom, placed by ``odom_in_map``:
-    the localisation's ``map -> odom``); starts as an unknown patch ``START_SIZE`` across round
-    the map origin."""
+                   odom_in_map: Callable[[], Pose2D] = Pose2D) -> Costmap:
+    """The growing map in ``map``, static + obstacle + inflation + people (the tracker's, in
+    odom, placed by ``odom_in_map``: the localisation's ``map -> odom``); starts as an unknown
+    patch ``START_SIZE`` across round the map origin."""
     gc, res = cfg.global_costmap, cfg.resolution
     default = UNKNOWN if gc.track_unknown_space else FREE
     start = GridGeometry.covering(-START_SIZE / 2, -START_SIZE / 2, START_SIZE / 2, START_SIZE / 2, res)
@@ -206,6 +199,5 @@ def global_costmap(cfg: CostmapsConfig, people: PeopleSource = nobody,
     obstacle = ObstacleLayer(frame.copy(), cfg.obstacle_min_range, gc.obstacle_max_range, gc.raytrace_max_range,
                              gc.inf_is_valid)
     static = StaticLayer(gc.free_thresh, gc.occupied_thresh, gc.track_unknown_space)
-    caution = CautionLayer(gc.people, cfg.robot_radius, cfg.cost_scaling_factor, things, odom_in_map)
     return Costmap(frame, obstacle, _inflation(cfg), static, people=_people(cfg, gc.people, people, odom_in_map),
-                   robots=_robots(cfg, Pose2D), caution=caution)
+                   robots=_robots(cfg, Pose2D))

@@ -340,20 +340,3 @@ def test_a_thing_where_a_person_stood_still_is_a_person_once_their_track_walks_o
     shown = {p.id: p for p in rig.people.confident()}
     assert worker.id in shown and math.hypot(shown[worker.id].x - stop[0], shown[worker.id].y - stop[1]) > 0.8
     assert [p for p in shown.values() if p.id != worker.id and math.hypot(p.x - box.x, p.y - box.y) < 0.1]
-
-
-def test_a_worker_crouching_against_a_wall_gets_a_berth_and_the_walls_pots_and_a_crate_alone_do_not():
-    """Explained by the first map (never tracked) and one long component with the wall, the
-    worker is still no wall: the structure's odd parts (``nav.structure.odd_blobs``) are handed to
-    the caution layer as things standing still; the straight walls, the known pots and a crate
-    standing alone in the first map (the greenhouse as it was) are not."""
-    worker, crate = (0.3, 1.0), (4.0, 4.4)  # a 0.5 x 0.6 m block 5 cm from the west wall; a crate alone
-    walls, pots = scene()
-    rig = Rig(mapped(walls.crouching(*worker).box(*crate, 0.4, 0.4)),
-              thing=lambda s: s.crouching(*worker).box(*crate, 0.4, 0.4))
-    rig.people.watch(pots, POT_RADIUS)
-    assert rig.ticks(5) == ()  # explained: not a track
-    things = rig.people.things()
-    assert things and all(p.id < 0 and p.vx == p.vy == 0.0 for p in things)
-    assert all(abs(p.x - worker[0]) <= 0.3 and abs(p.y - worker[1]) <= 0.35 for p in things)
-    assert max(p.y for p in things) - min(p.y for p in things) >= 0.3  # its whole side, in pieces
