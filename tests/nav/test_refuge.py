@@ -105,3 +105,22 @@ def test_the_refuge_chosen_is_kept_while_a_carts_heading_estimate_swings():
     assert kept.heading[0] < -0.5 and np.allclose(kept.refuge, west.refuge)  # kept: still west
     far = west.refuge + [-1.0, 0.0]  # a refuge a metre farther than the nearest is not kept
     assert step(-0.015, keep=far).heading[0] > 0.5
+
+
+def test_a_robot_a_little_off_a_carts_line_never_crosses_it_ahead_of_them():
+    """0.2 m east of the line of a cart coming north: with room east, it goes east; with none (a
+    wall 0.45 m off) it does not step west across the line in front of the cart, only on along
+    its own side, round the far end of the lane, or not at all."""
+    here = np.array([6.2, 6.0])
+    cart = np.array([(6.0, 3.0, 0.0, 0.7, 0.35)], dtype=float)  # its lane ends 1 m north of the robot
+    open_floor = CostGrid.filled(60, 60, 0.05, here[0] - 1.5, here[1] - 1.5)
+    walled = CostGrid.filled(60, 60, 0.05, here[0] - 1.5, here[1] - 1.5)
+    iy, ix = np.mgrid[0:60, 0:60]
+    x, _ = walled.geometry.centre_of(ix, iy)
+    walled.data[x >= here[0] + 0.45] = LETHAL
+
+    def heading(grid):
+        return _u(refuge_heading(here, cart, grid, RADIUS, LAYER.clearance, LAYER.clearance, LAYER.lane_time, WALKING))
+    assert heading(open_floor)[0] > 0.5
+    u = heading(walled)
+    assert u is None or u[0] > -1e-9
