@@ -22,7 +22,7 @@ from hw.people import Person, PeopleSource
 from nav.config import NavConfig
 from nav.costmap.grid import CostGrid
 from nav.frames import transform_points
-from nav.refuge import TOUCH, in_a_lane, refuge_heading  # TOUCH: also ``in_lane``'s margin within ``wait_clearance``
+from nav.refuge import TOUCH, refuge_heading  # TOUCH: also ``in_lane``'s margin within ``wait_clearance``
 from nav.walks import WALKING, walks_of
 
 #: Speed of a step out of a person's way within ``wait_clearance`` (1 m) of them, m/s: issue
@@ -44,14 +44,12 @@ class PeopleNearby:
         return [p for p in self.people() if p.confidence >= self.layer.min_confidence]
 
     def walks(self, people: list[Person]) -> np.ndarray:
-        """(P, 6) rows of x, y, vx, vy, radius, walked, odom frame, of ``people`` as ``counted``
-        last read them (it stored each strider's velocity as it is), with someone slower given
-        the velocity of their last walk, and ``walked`` how far back along it they came from
-        (``nav.refuge`` keeps out of their lane): a cart pusher pausing at the end of a cross
-        aisle turns and walks it again (safety.people seed 4: the robot took the paused cart's
-        aisle for a place to wait in, and was in its way when it came back)."""
-        return np.array([[p.x, p.y, *self.people.last(p), p.radius, self.people.walked(p)] for p in people],
-                        dtype=float)
+        """(P, 5) rows of x, y, vx, vy, radius, odom frame, of ``people`` as ``counted`` last read
+        them (it stored each strider's velocity as it is), with someone slower given the velocity
+        of their last walk (``nav.refuge`` keeps out of their lane): a cart pusher pausing at the
+        end of a cross aisle turns and walks it again (safety.people seed 4: the robot took the
+        paused cart's aisle for a place to wait in, and was in its way when it came back)."""
+        return np.array([[p.x, p.y, *self.people.last(p), p.radius] for p in people], dtype=float)
 
     def gap(self, person: Person, x: float, y: float) -> float:
         """Body to body from a robot centred at (``x``, ``y``), odom, to ``person``, m."""
@@ -101,22 +99,17 @@ class PeopleNearby:
         no free direction. ``clearance``: the body-to-body distance to keep (the layer's when
         None; the wider ``wait_clearance`` while the robot waits for someone); ``reach``: how
         many seconds of a walker's walk the keep-out runs along (``predict_time`` when None, the
-        ``lane_time`` to step out of a lane). A robot in no one's keep-out that stands in a
-        walker's lane (``nav.refuge.in_a_lane``: back as far as they walked) steps out of it too,
-        before they come: held-out seed 4, 1,580 s, the robot waited for a grower in the cross
-        aisle a cart pusher who does not yield paces, 4 m from them paused at its far end, and
-        stepped aside only once they walked back, too late by 0.7 m."""
+        ``lane_time`` to step out of a lane)."""
         people = self.counted()
         here = np.array([odom.x, odom.y])
         close = [(p, d) for p, a, b in zip(people, *self._segments(people, reach))
                  if (d := to_segment(here, a, b)) < self.keep_out(p, clearance)] if people else []
-        rows = self.walks(people) if people else np.zeros((0, 6))
-        if not close and not in_a_lane(here, rows, self.robot_radius, self.layer.clearance, self.layer.lane_time,
-                                       WALKING):
+        if not close:
             self._refuge = None
             return ZERO_TWIST
-        p = min(people, key=lambda q: self.gap(q, odom.x, odom.y))
+        p = min(close, key=lambda c: c[1])[0]
         v = self.layer.step_speed if self.gap(p, odom.x, odom.y) > self.layer.wait_clearance else NEAR_SPEED
+        rows = self.walks(people)
         want = self.layer.clearance if clearance is None else clearance
         step = refuge_heading(here, rows, grid, self.robot_radius, self.layer.clearance, want,
                               self.layer.lane_time, WALKING, self._refuge)

@@ -9,9 +9,8 @@ row ends does not have. So the step is not a direction but a place: of every cel
 reach in the local costmap (NavFn's wavefront from the robot, ``nav.planner.propagate``), the
 nearest by path whose centre is
 
-* clear of every walker's walk: their straight line ``lane_time`` seconds on *and back*, and
-  back as far as they walked (people pace: a cart pusher at the end of a cross aisle turns and
-  comes back down all of it, ``nav.walks``) by the person
+* clear of every walker's walk: their straight line ``lane_time`` seconds on *and back* (people
+  pace: a cart pusher at the end of a cross aisle turns and comes back down it) by the person
   layer's keep-out plus ``TOUCH``; and
 * at least ``want`` body to body from everyone (the wider ``wait_clearance`` while the robot waits
   for someone, when there is such a place in reach; else the layer's ``clearance`` plus
@@ -76,8 +75,7 @@ def refuge_heading(here: np.ndarray, people: np.ndarray, grid: CostGrid, robot_r
     """The step towards the nearest refuge (module docstring) from ``here``, or None: none is
     in reach.
 
-    ``people``: (P, 5) rows of x, y, vx, vy, radius in ``grid``'s frame (a sixth column: how far
-    each walked, m, which their lane reaches back at least); ``clearance`` the person
+    ``people``: (P, 5) rows of x, y, vx, vy, radius in ``grid``'s frame; ``clearance`` the person
     layer's body-to-body keep-out, ``want`` the distance to wait at when there is room for it;
     a person faster than ``walking`` m/s walks a lane; ``keep``: the refuge the last step headed
     for, kept while it is still one within ``SLACK`` and not ``STICK`` farther than the nearest."""
@@ -118,15 +116,6 @@ def refuge_heading(here: np.ndarray, people: np.ndarray, grid: CostGrid, robot_r
     return None
 
 
-def in_a_lane(here: np.ndarray, people: np.ndarray, robot_radius: float, clearance: float, lane_time: float,
-              walking: float) -> bool:
-    """Does a robot at ``here`` stand in a walker's lane, as a refuge must not (``people`` as
-    ``refuge_heading`` takes them)? A robot waiting there is in the way of someone who will
-    walk that lane, coming or coming back, before they are near enough to count."""
-    x, y = np.array([here[0]]), np.array([here[1]])
-    return bool((_lane_gaps(x, y, people, robot_radius, lane_time, walking) < clearance + TOUCH).any())
-
-
 def _refuges(lane: np.ndarray, gap: np.ndarray, pot: np.ndarray, off_lanes: float, need: float) -> np.ndarray:
     """Cells in reach (``pot``) at least ``off_lanes`` from every walker's lane and ``need``
     from everyone, body to body."""
@@ -144,7 +133,7 @@ def _cell(point: np.ndarray | None, geo) -> tuple[int, int] | None:
 def _gaps(cx: np.ndarray, cy: np.ndarray, people: np.ndarray, robot_radius: float) -> np.ndarray:
     """Body-to-body distance from a robot centred on each cell to the nearest person, m."""
     out = np.full(cx.shape, np.inf)
-    for x, y, _, _, r, *_ in people:
+    for x, y, _, _, r in people:
         out = np.minimum(out, np.hypot(cx - x, cy - y) - r - robot_radius)
     return out
 
@@ -152,17 +141,16 @@ def _gaps(cx: np.ndarray, cy: np.ndarray, people: np.ndarray, robot_radius: floa
 def _lane_gaps(cx: np.ndarray, cy: np.ndarray, people: np.ndarray, robot_radius: float, lane_time: float,
                walking: float, back: bool = True) -> np.ndarray:
     """(W, H, W) per walker: body-to-body distance from a robot on each cell to their lane (their
-    line ``lane_time`` on and, with ``back``, back, at ``PACE`` at least, and back at least as far
-    as they walked (a sixth column, m: ``nav.walks.Walks.walked``), ``ACROSS`` wide at most each
-    side), m; none with no one walking. Per walker, not the nearest lane: standing deep in one
+    line ``lane_time`` on and, with ``back``, back, at ``PACE`` at least, ``ACROSS`` wide at most
+    each side), m; none with no one walking. Per walker, not the nearest lane: standing deep in one
     walker's lane must not let the way go deeper into another's."""
     out = []
-    for x, y, vx, vy, r, *walked in people:
+    for x, y, vx, vy, r in people:
         speed = np.hypot(vx, vy)
         if speed <= walking:
             continue
         reach = lane_time * max(speed, PACE) / speed
-        behind = max(reach, (walked[0] if walked else 0.0) / speed) if back else 0.0
+        behind = reach if back else 0.0
         ax, ay, bx, by = x - vx * behind, y - vy * behind, x + vx * reach, y + vy * reach
         dx, dy = bx - ax, by - ay
         t = np.clip(((cx - ax) * dx + (cy - ay) * dy) / (dx * dx + dy * dy), 0.0, 1.0)

@@ -11,12 +11,6 @@ is someone standing, not turning round: a worker who walked to a bench and works
 (walker-aisle-worker: kept out of their walk both ways for good, the robot never worked their
 aisle again).
 
-How far back a walker's lane reaches is how far they walked (``walked``): a cart pusher pacing a
-cross aisle turns at each end and walks all of it again, so the lane behind them is the aisle
-they walked, not a few seconds of it (held-out safety.people seed 4, 1,575 s: paused at the
-aisle's north end, a cart pusher who does not yield had a lane 4 m long behind them; the robot
-waited 4.1 m off in the aisle, outside it, and the cart came back down the aisle into it).
-
 A strider's heading is read from where they walked over the last ``HEADING_OVER`` seconds, not
 the tracker's velocity now: a cart's velocity swings +-20 deg scan to scan as its box and its
 pusher's legs come and go in the scan, and a lane read from it swung across the cross aisle it
@@ -46,9 +40,6 @@ PAUSE = 10.0
 HEADING_OVER = 1.0
 #: Below this much walked over ``HEADING_OVER``, their velocity's own heading is read, m.
 HEADING_WALKED = 0.3
-#: The most of a walk remembered behind a walker, m: a bay's cross aisle end to end (sim.generate:
-#: six rows, 6 m). Further back than that, their lane behind them is not a place they turn round in.
-WALKED_BACK = 6.0
 
 
 class Walks:
@@ -59,24 +50,15 @@ class Walks:
         """Each person's last striding velocity (odom) and when, by id, the latest walked last."""
         self._trail: dict[int, deque[tuple[float, float, float]]] = {}
         """Each strider's (when, x, y) over the last ``HEADING_OVER`` s and one before, by id."""
-        self._began: dict[int, tuple[float, float, bool]] = {}
-        """Where each person's last walk began (odom) and whether they have paused since, by id."""
 
     def __call__(self) -> list[Person]:
         """The people now (``PeopleSource``); each read remembers the striders' walks."""
         people = list(self.people())
         now = self.clock()
         for p in people:
-            speed = math.hypot(p.vx, p.vy)
-            began = self._began.get(p.id)
-            if speed <= WALKING and began is not None:
-                self._began[p.id] = (began[0], began[1], True)
-            if speed <= STRIDING:
+            if math.hypot(p.vx, p.vy) <= STRIDING:
                 self._trail.pop(p.id, None)  # turning or pausing: the next stride's heading starts afresh
                 continue
-            if began is None or began[2]:  # a first stride, or one after a pause: a walk begins here
-                self._began.pop(p.id, None)
-                self._began[p.id] = (p.x, p.y, False)
             trail = self._trail.setdefault(p.id, deque())
             if not trail or now > trail[-1][0]:
                 trail.append((now, p.x, p.y))
@@ -84,7 +66,7 @@ class Walks:
                 trail.popleft()
             self._last.pop(p.id, None)
             self._last[p.id] = (*self._stride(p), now)
-        for kept in (self._last, self._trail, self._began):
+        for kept in (self._last, self._trail):
             while len(kept) > KEPT:
                 del kept[next(iter(kept))]
         return people
@@ -108,16 +90,6 @@ class Walks:
         if person.id not in self._last:
             return person.vx, person.vy
         return self._last[person.id][:2]
-
-    def walked(self, person: Person) -> float:
-        """How far ``person`` is from where their last walk began, at most ``WALKED_BACK``, m (0
-        for someone who has not walked): how far back along their lane they may turn and walk
-        again. A cart pusher pacing a cross aisle walks all of it, and paused at its far end
-        is still coming back down all of it (module docstring)."""
-        began = self._began.get(person.id)
-        if began is None:
-            return 0.0
-        return min(math.hypot(person.x - began[0], person.y - began[1]), WALKED_BACK)
 
     def paused(self, person: Person) -> tuple[float, float] | None:
         """The velocity of a paused person's last walk (odom), while the pause is short enough

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from hw.interfaces import ZERO_TWIST
 from hw.odometry import Pose2D
 from hw.people import Person
 from nav.config import NavConfig
@@ -38,23 +37,3 @@ def test_with_room_on_its_own_side_it_steps_there():
     step = _step(walker, CostGrid.filled(120, 120, 0.05, 0.0, 0.0))
     assert step[0] > 0.2 and abs(step[1]) < 0.1 * step[0]  # east, away from their way
 
-
-
-def test_waiting_in_a_paused_pacers_walk_it_steps_out_before_they_come_back():
-    """Held-out seed 4, 1,580 s: a cart pusher who does not yield walked the cross aisle north
-    and paused at its end, 4.1 m from the robot waiting in the aisle for someone else. In no
-    one's keep-out, the robot stood there; in the lane they walked, it steps out of it now,
-    at the layer's step speed (nobody within 1 m)."""
-    people = [Person(6, 3.0, 0.3, 0.0, 0.7, 0.35, 0.9)]
-    nearby = PeopleNearby(CFG, lambda: people, Pose2D)
-    for k in range(1, 12):  # walking north up x = 3, 0.5 m a read
-        people[:] = [Person(6, 3.0, 0.3 + 0.5 * k, 0.0, 0.7, 0.35, 0.9)]
-        nearby.counted()
-    people[:] = [Person(6, 3.0, 5.8, 0.0, 0.0, 0.35, 0.9)]  # paused at the north end
-    here = Pose2D(3.1, 1.6, 0.0)  # 4.2 m south of them, in the aisle they walked
-    twist = nearby.evade(here, CostGrid.filled(120, 120, 0.05, 0.0, 0.0), CFG.costmap.global_costmap.people.wait_clearance)
-    assert abs(twist.vx) > 0.5 * CFG.costmap.global_costmap.people.step_speed  # sideways, out of the aisle's line
-    assert abs(np.hypot(twist.vx, twist.vy) - CFG.costmap.global_costmap.people.step_speed) < 1e-9
-    fresh = PeopleNearby(CFG, lambda: people, Pose2D)  # never saw them walk: no lane, no step
-    assert fresh.evade(here, CostGrid.filled(120, 120, 0.05, 0.0, 0.0),
-                       CFG.costmap.global_costmap.people.wait_clearance) == ZERO_TWIST

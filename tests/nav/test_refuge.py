@@ -124,23 +124,3 @@ def test_a_robot_a_little_off_a_carts_line_never_crosses_it_ahead_of_them():
     assert heading(open_floor)[0] > 0.5
     u = heading(walled)
     assert u is None or u[0] > -1e-9
-
-
-def test_a_paused_pacers_whole_walk_is_their_lane_not_only_its_last_seconds():
-    """Held-out seed 4, 1,575 s: a cart pusher who does not yield paused at the north end of the
-    cross aisle they pace, 4.1 m from the robot waiting in it. Their lane ``lane_time`` back
-    ended short of the robot; the aisle they walked reaches it, so it steps out of the aisle."""
-    here = np.array([8.0, 2.5])
-    grid = CostGrid.filled(60, 60, 0.05, here[0] - 1.5, here[1] - 1.5)
-    iy, ix = np.mgrid[0:60, 0:60]
-    x, y = grid.geometry.centre_of(ix, iy)
-    grid.data[x <= 7.25] = LETHAL  # the divider west of the cross aisle; the rows' aisle mouth east is open
-    grid.data[(x >= 8.9) & (np.abs(y - 2.5) > 0.2)] = LETHAL
-
-    def heading(walked):
-        cart = (8.0, 7.8, 0.0, 0.7, 0.35, walked)  # paused: the velocity of their walk north
-        return _u(refuge_heading(here, np.array([cart], dtype=float), grid, RADIUS, LAYER.clearance,
-                                 LAYER.wait_clearance, LAYER.lane_time, WALKING))
-    assert heading(0.0) is None  # 4 s back: the robot counts as out of their way
-    u = heading(6.0)  # walked up from y 1.8
-    assert u is not None and u[0] > 0.5  # east, into the aisle mouth, out of theirs

@@ -7,7 +7,7 @@ from hw.odometry import Pose2D
 from hw.people import Person
 from nav.config import NavConfig
 from nav.people_nearby import PeopleNearby
-from nav.walks import KEPT, PAUSE, WALKED_BACK, Walks
+from nav.walks import KEPT, PAUSE, Walks
 
 
 def test_a_persons_walk_outlives_their_track_and_a_paused_walker_keeps_it():
@@ -44,8 +44,8 @@ def test_the_refuge_keeps_out_of_a_paused_walkers_walk():
     nearby = PeopleNearby(NavConfig(), lambda: now, Pose2D)
     nearby.counted()
     now[:] = [Person(7, 2.0, 2.0, 0.0, 0.0, 0.25, 0.9)]
-    ((x, y, vx, vy, r, walked),) = nearby.walks(nearby.counted())
-    assert (x, y, vx, vy, walked) == (2.0, 2.0, 0.0, -1.0, 1.0)  # walked from y = 3: their lane reaches back there
+    ((x, y, vx, vy, r),) = nearby.walks(nearby.counted())
+    assert (x, y, vx, vy) == (2.0, 2.0, 0.0, -1.0)
 
 
 def test_a_pause_longer_than_a_turn_is_someone_standing():
@@ -83,25 +83,3 @@ def test_a_striders_heading_is_where_they_walked_not_their_velocity_now():
     clock[0] = 1.2
     walks()
     assert abs(walks.paused(stopped)[0]) < 0.02
-
-
-def test_a_pacers_walk_reaches_back_to_where_it_began_and_starts_again_at_each_turn():
-    """A cart pusher walks the cross aisle north end to end and pauses: the way they may come
-    back is all they walked (held-out seed 4, 1,575 s: a lane of 4 s behind them left the robot
-    waiting in the aisle 4.1 m off, and the cart came back into it). Turned, their next walk
-    begins at the turn; past ``WALKED_BACK``, no more of it is remembered."""
-    now: list[Person] = []
-    walks = Walks(lambda: now)
-    for k in range(12):
-        now[:] = [Person(6, 8.0, 0.5 + 0.5 * k, 0.0, 0.7 - 0.3 * (k % 2), 0.35, 0.9)]  # 0.4-0.7 m/s: a stride, or a dip
-        walks()
-    now[:] = [Person(6, 8.0, 6.0, 0.02, 0.0, 0.35, 0.9)]  # paused at the north end
-    (p,) = walks()
-    assert walks.walked(p) == WALKED_BACK - 0.5 and walks.paused(p) == (0.0, 0.7)
-    now[:] = [Person(6, 8.0, 5.5, 0.0, -0.7, 0.35, 0.9)]  # walking back south
-    (p,) = walks()
-    assert walks.walked(p) == 0.0
-    now[:] = [Person(6, 8.0, -2.0, 0.0, -0.7, 0.35, 0.9)]
-    (p,) = walks()
-    assert walks.walked(p) == WALKED_BACK
-    assert walks.walked(Person(9, 0.0, 0.0, 0.0, 0.0, 0.25, 0.9)) == 0.0  # never walked
