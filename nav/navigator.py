@@ -73,10 +73,6 @@ from nav.smoother import VelocitySmoother
 
 log = logging.getLogger(__name__)
 
-BLOCKED = "blocked"
-"""How a goal's failure begins when its waits ran out (``blocked_wait``, ``person_wait``): people
-or something else kept it, not the way or the controller (``mission.patrol.tree`` retries it)."""
-
 
 #: Least time between two replans triggered by a blocked path or a failed plan (the 1 Hz replan still runs): a
 #: plan the local costmap disagrees with is redone at once, but not on every 50 ms control tick.
@@ -294,7 +290,7 @@ class Navigator(Waits, Recovery):
             log.info("%s: waiting up to %.0f s", why, wait)
         self.held_for += dt
         if self.held_for > wait:
-            self._finish(State.FAILED, f"{BLOCKED}: {why} for {wait:g} s", now)
+            self._finish(State.FAILED, f"blocked: {why} for {wait:g} s", now)
             return True
         self._deadline += dt
         if self._checkpoint is not None:

@@ -130,12 +130,6 @@ class PatrolConfig(BaseModel):
     read the same tags over and over. A 1.5 m read range sees each plate from several places."""
     watch_turn: float = Field(0.25, gt=0)
     """... or turned this much, rad."""
-    people_rounds: int = Field(3, ge=1)
-    """Goes after the other pots for a pot that people kept the robot from (its drive ran out of
-    waiting, ``blocked``: someone in the only way, on the approach pose, or too close): a picker
-    pacing the aisle with a cart leaves the robot no moment to pass, only moments behind them,
-    and one more go caught one for half those pots (safety.people seed 1, P29-P36: 4 of 8). Any
-    other failure gets one go after the others, as before."""
     lidar_lost_after: float = Field(3.0, gt=0)
     """Seconds without a trustworthy scan (stale or blind) before the patrol pauses with fault
     ``lidar_lost`` (``mission.patrol.lidar_loss``): longer than a sun glint or a hand over the

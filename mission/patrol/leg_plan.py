@@ -5,8 +5,7 @@ the dock to end the patrol, or, when the dock is out of reach, out of the aisles
 
 A leg is the pots not done, in the mission's order from where the robot stands (the first leg
 in the order planned at the start, each later one in a fresh shortest order from the dock), each
-pot behind its check (``mission.patrol.energy``), then the goes after the others for the pots
-it could not get to (``goes_again``). Ending the patrol for want of charge (no
+pot behind its check (``mission.patrol.energy``). Ending the patrol for want of charge (no
 charger, the legs used, a dock that gives no current, a pot out of reach of a full charge, the
 dock out of reach) notes ``battery`` with the pots left: the outcome is then ``battery_low``.
 """
@@ -21,25 +20,9 @@ from behaviours.steps import Check, Do, WaitUntil
 from hw.odometry import Pose2D
 from mission.patrol.mission_file import MissionPot
 from mission.patrol.parking import parking_spot
-from nav.navigator import BLOCKED
 
 if TYPE_CHECKING:
     from mission.patrol.tree import PatrolTree
-
-
-def goes_again(later: int, people_rounds: int, why: str, searched: bool) -> bool:
-    """Does a pot whose ``later``-th go (0: its first) failed, saying ``why``, get another after
-    the others? Its first go always does, but for a pot searched for and not found (it is not
-    there to get to); a later one only while people kept the robot from it (the drive failed
-    ``nav.navigator.BLOCKED``), up to ``people_rounds`` (``PatrolConfig.people_rounds``)."""
-    if searched:
-        return False
-    return not later or (later < people_rounds and BLOCKED in why)
-
-
-def later_label(pot_id: str, later: int) -> str:
-    """A pot's branch name for its ``later``-th go after the others (0: its first go)."""
-    return pot_id if not later else f"{pot_id} later" if later == 1 else f"{pot_id} later {later}"
 
 
 class PatrolLegs:
@@ -91,11 +74,10 @@ class PatrolLegs:
             self.tree.order = self.tree._order(left)
         self._gate_why = ""
         order = [p for p in self.tree.order if not self.tree.visits[p.id].done]
-        rounds = range(self.tree.config.people_rounds + 1)
         return Sequence(f"leg {len(self.tree.legs.legs) + 1}", memory=True,
-                        children=[self._gated(p, later) for later in rounds for p in order])
+                        children=[self._gated(p) for p in order] + [self._gated(p, later=True) for p in order])
 
-    def _gated(self, pot: MissionPot, later: int = 0) -> Sequence:
+    def _gated(self, pot: MissionPot, later: bool = False) -> Sequence:
         visit = self.tree.visits[pot.id]
 
         def enough() -> bool:
@@ -107,7 +89,7 @@ class PatrolLegs:
                 self._gate_why = f"before {pot.id}: {why}"
             return not why
 
-        label = later_label(pot.id, later)
+        label = f"{pot.id} later" if later else pot.id
         return Sequence(f"{label} (energy)", memory=True,
                         children=[Check(f"charge for {label}", enough), self.tree._pot(pot, later)])
 
