@@ -18,11 +18,18 @@ RADIUS = NavConfig().costmap.robot_radius
 MOUTH = np.array([9.1, 4.4])  # the robot, at the mouth of the aisle y 4.5
 
 
-def _greenhouse() -> CostGrid:
-    """3 x 3 m round the robot (5 cm), as the local costmap rolls with it."""
-    grid = CostGrid.filled(60, 60, 0.05, MOUTH[0] - 1.5, MOUTH[1] - 1.5)
+def _floor(here: np.ndarray) -> tuple[CostGrid, np.ndarray, np.ndarray]:
+    """Open floor 3 x 3 m round ``here`` (5 cm), as the local costmap rolls with the robot, and
+    its cells' centres (x, y) to draw on."""
+    grid = CostGrid.filled(60, 60, 0.05, here[0] - 1.5, here[1] - 1.5)
     iy, ix = np.mgrid[0:60, 0:60]
     x, y = grid.geometry.centre_of(ix, iy)
+    return grid, x, y
+
+
+def _greenhouse() -> CostGrid:
+    """3 x 3 m round the robot (5 cm), as the local costmap rolls with it."""
+    grid, x, y = _floor(MOUTH)
     grid.data[(x >= 8.9) & (np.abs(y - np.round(y)) < 0.3)] = LETHAL  # the rows, inflated
     grid.data[x <= 7.25] = LETHAL  # the divider
     return grid
@@ -70,9 +77,7 @@ def test_behind_a_walker_it_crosses_their_lane_to_a_refuge_beyond():
     robot crosses behind them to wait beyond their lane; coming, it does not cross in front
     (standing deep in the grower's lane once let the way go as deep into the cart's)."""
     here = np.array([12.3, 2.5])
-    grid = CostGrid.filled(60, 60, 0.05, here[0] - 1.5, here[1] - 1.5)
-    iy, ix = np.mgrid[0:60, 0:60]
-    x, y = grid.geometry.centre_of(ix, iy)
+    grid, x, y = _floor(here)
     grid.data[(x <= 12.1) & (np.abs(y - 2.5) > 0.2)] = LETHAL  # benches either side of the aisle, inflated
     grid.data[x >= 13.78] = LETHAL  # the east wall, inflated
     grower = (11.0, 2.5, 0.7, 0.0, 0.35)  # a cart, stopped: the velocity of their last stride
@@ -93,7 +98,7 @@ def test_the_refuge_chosen_is_kept_while_a_carts_heading_estimate_swings():
     flipped from one side of its lane to the other each time, the robot stepped west, east,
     west, and was still in the lane when the cart walked into it."""
     here = np.array([6.0, 5.5])
-    grid = CostGrid.filled(60, 60, 0.05, here[0] - 1.5, here[1] - 1.5)  # open floor either side
+    grid, _, _ = _floor(here)  # open floor either side
 
     def step(vx, keep=None):
         cart = (6.0, 3.5, vx, 0.7, 0.35)
@@ -113,10 +118,8 @@ def test_a_robot_a_little_off_a_carts_line_never_crosses_it_ahead_of_them():
     its own side, round the far end of the lane, or not at all."""
     here = np.array([6.2, 6.0])
     cart = np.array([(6.0, 3.0, 0.0, 0.7, 0.35)], dtype=float)  # its lane ends 1 m north of the robot
-    open_floor = CostGrid.filled(60, 60, 0.05, here[0] - 1.5, here[1] - 1.5)
-    walled = CostGrid.filled(60, 60, 0.05, here[0] - 1.5, here[1] - 1.5)
-    iy, ix = np.mgrid[0:60, 0:60]
-    x, _ = walled.geometry.centre_of(ix, iy)
+    open_floor, _, _ = _floor(here)
+    walled, x, _ = _floor(here)
     walled.data[x >= here[0] + 0.45] = LETHAL
 
     def heading(grid):
