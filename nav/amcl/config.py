@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from pydantic import Field, model_validator
 
-from hw.config import Strict
+from hw.config import BlindRule, Strict
 
 Triple = tuple[float, float, float]
 
@@ -20,6 +20,11 @@ class AmclConfig(Strict):
     trials): with 500 one start of 24 locked onto the neighbouring pot, 1 m out (under an
     earlier convergence test), with 1000 none of 72 did, and it was ready sooner (4.4 s worst
     against 7.9 s)."""
+    blind: BlindRule = BlindRule()
+    """When a scan is too blind to weigh the particles by (``hw.scan_trust``, the collision
+    monitor's rule): its few returns left are whatever covers the lidar (a cart pushed over
+    the robot), so the filter skips it and the pose follows odometry until scans can be trusted
+    (the same as ``SlamConfig.blind``)."""
     alphas: tuple[float, float, float, float, float] = (0.2, 0.2, 0.2, 0.2, 0.2)
     """alpha1..alpha5 of Nav2's OmniMotionModel (seed: all five 0.2): rotation noise from
     rotation (alpha1) and from translation (alpha2), translation noise from translation

@@ -12,14 +12,18 @@ same way.
 The map is there from the start (it was loaded), so ``has_map`` is always true; ``ready`` is
 true once the filter has integrated a scan and its cloud has converged, which is what the
 readiness cascade waits for: navigation does not start on a guess. It stays true after that
-(the filter's convergence latches) until ``reset``.
+(the filter's convergence latches) until ``reset``. A scan too blind to trust (``AmclConfig.blind``)
+is not fed to the filter: ``map -> odom`` is held, and the pose follows odometry through it.
 """
 from __future__ import annotations
 
 from typing import Callable, Optional
 
+import numpy as np
+
 from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
+from hw.scan_trust import ScanTrust
 from nav.amcl.config import AmclConfig
 from nav.amcl.particle_filter import ParticleFilter
 from nav.frames import compose, inverse
@@ -36,6 +40,7 @@ class AmclLocalisation:
         self.occupancy = occupancy
         self.filter = ParticleFilter(config, occupancy, lidar_mount)
         self.odom_pose, self.scan = odom_pose, scan
+        self.trust = ScanTrust(config.blind)
         self._stamp: Optional[float] = None
         self._map_to_odom = compose(Pose2D(*config.initial_pose), inverse(odom_pose()))
 
@@ -57,6 +62,8 @@ class AmclLocalisation:
         if scan is None or (self._stamp is not None and scan.stamp <= self._stamp):
             return
         self._stamp = scan.stamp
+        if self.trust.judge(scan.angles, np.isfinite(scan.ranges)) is not None:
+            return
         odom = self.odom_pose()
         if self.filter.update(odom, scan):
             self._map_to_odom = compose(self.filter.estimate(), inverse(odom))

@@ -8,7 +8,7 @@ from typing import Optional
 
 from pydantic import Field, model_validator
 
-from hw.config import Strict
+from hw.config import BlindRule, Strict
 
 
 class SlamConfig(Strict):
@@ -20,6 +20,13 @@ class SlamConfig(Strict):
     gripper and arm; filtered in AMCL, slam_toolbox and both costmaps alike)."""
     max_range: float = Field(12.0, gt=0)
     """Returns beyond this are dropped, m (seed: the C1's effective 12 m)."""
+    blind: BlindRule = BlindRule()
+    """When a scan is too blind to register (``hw.scan_trust``, the collision monitor's rule and
+    numbers): a cart pushed over the robot covers half the lidar's view, and what is left, the
+    cart's faces a hand's width off, dragged ICP round by 8 deg in a second (held-out seed 4 of
+    ``safety.people``, 928.5-929.5 s); the map drawn at that heading was wrong from then on and
+    the patrol lost 26 pots. A scan too blind to steer by is too blind to map by: the pose goes
+    on by wheel odometry alone until scans can be trusted again (``nav.slam.mapper``)."""
     voxel_size: float = Field(0.10, gt=0)
     """kiss-icp's local-map voxel, m (kiss-icp sizes it at ~1 % of the range it sees: 0.1 m at
     the C1's 12 m). Measured on the greenhouse survey: 0.10 m gives 6 mm trajectory error at

@@ -80,9 +80,7 @@ class LidarOdometry:
     def register(self, points: np.ndarray, odom: Pose2D) -> Pose2D:
         """Register one scan's ``base_link`` points (N, 3); ``odom`` is the wheel odometry pose
         when it was taken. Returns the new pose."""
-        delta = Pose2D() if self._odom is None else compose(inverse(self._odom), odom)
-        self._odom = odom
-        guess = compose(self.pose, delta)
+        guess = self._moved(odom)
         fine = voxel_down_sample(points, self._voxel * 0.5)
         if self.local_map.empty():
             new = guess
@@ -93,3 +91,15 @@ class LidarOdometry:
         self.local_map.update(fine, new)
         self.pose = new
         return new
+
+    def coast(self, odom: Pose2D) -> Pose2D:
+        """Move the pose by the wheel odometry alone (a scan too blind to register): nothing
+        joins the local map, and the adaptive threshold learns nothing from it."""
+        self.pose = self._moved(odom)
+        return self.pose
+
+    def _moved(self, odom: Pose2D) -> Pose2D:
+        """The pose moved by the wheel odometry's delta since the last scan (the guess)."""
+        delta = Pose2D() if self._odom is None else compose(inverse(self._odom), odom)
+        self._odom = odom
+        return compose(self.pose, delta)

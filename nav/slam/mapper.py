@@ -2,7 +2,9 @@
 
 ``process`` takes a lidar revolution and the wheel odometry pose it was taken at and
 
-1. turns it into ``base_link`` points, dropping returns below 0.25 m (``scan_points``);
+1. turns it into ``base_link`` points, dropping returns below 0.25 m (``scan_points``); a scan
+   too blind to trust (``hw.scan_trust``, the collision monitor's rule: a cart pushed over the
+   lidar) is not registered, kept or drawn: the pose goes on by wheel odometry alone;
 2. registers it against the local voxel map, wheel odometry giving the guess (``lidar_odometry``);
 3. every ``keyframe_distance`` / ``keyframe_angle`` adds a pose-graph node joined to the last by
    the registered motion, looks for a revisit and, on an accepted loop match, optimises the
@@ -26,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from hw.odometry import Pose2D, wrap_angles
+from hw.scan_trust import ScanTrust
 from nav.frames import compose, distance, inverse, transform_points, yaw_error
 from nav.grid_geometry import GridGeometry
 from nav.occupancy import OccupancyMap
@@ -86,6 +89,9 @@ class Mapper:
         self.kept_bytes = 0
         """Memory of the kept scans and the keyframes' points (what re-rendering needs)."""
         self.scans = 0
+        self.trust = ScanTrust(cfg.blind)
+        self.blind_scans = 0
+        """Scans too blind to register, passed over on wheel odometry (``SlamConfig.blind``)."""
         self._kf_lo: list[Pose2D] = []
         self._kf_points: list[np.ndarray] = []
         self._travel: list[float] = []
@@ -140,6 +146,8 @@ class Mapper:
     def process(self, angles: np.ndarray, ranges: np.ndarray, odom: Pose2D) -> Pose2D:
         """Integrate one revolution; returns the robot's map pose."""
         cfg = self.cfg
+        if self.trust.judge(angles, np.isfinite(ranges)) is not None:
+            return self._coast(odom)
         points = scan_points(angles, ranges, self.mount, cfg.min_range, cfg.max_range)
         lo = self.odometry.register(points, odom)
         if self._new_keyframe(lo):
@@ -159,6 +167,16 @@ class Mapper:
         self._rerender_step()
         self.map_to_odom = compose(self.pose, inverse(odom))
         self.scans += 1
+        return self.pose
+
+    def _coast(self, odom: Pose2D) -> Pose2D:
+        """A blind scan (``SlamConfig.blind``): the pose moves by wheel odometry alone, and
+        nothing of the scan is registered, kept or drawn; a pending re-render goes on."""
+        self.pose = compose(self._correction(), self.odometry.coast(odom))
+        self._rerender_step()
+        self.map_to_odom = compose(self.pose, inverse(odom))
+        self.scans += 1
+        self.blind_scans += 1
         return self.pose
 
     def occupancy(self) -> OccupancyMap:

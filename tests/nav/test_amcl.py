@@ -261,6 +261,44 @@ def test_map_to_odom_composes_with_odometry_to_the_estimate_and_is_held_between_
     assert loc.filter.spread()[0] > 0.3  # reseeded with the initial covariance
 
 
+def test_a_blind_scan_is_not_fed_to_the_filter_and_the_pose_follows_odometry():
+    """A cart pushed over the lidar: the front arc returns nothing, the cart's face a hand's
+    width off fills the side; weighed, such scans pull the cloud off the truth."""
+    rng = np.random.default_rng(5)
+    state = {"odom": Pose2D(), "truth": Pose2D(), "t": 0.0, "covered": False}
+
+    def scan():
+        s = scan_at(state["truth"], rng, state["t"])
+        if state["covered"]:
+            a = np.angle(np.exp(1j * s.angles.astype(np.float64)))
+            r = s.ranges.copy()
+            r[np.abs(a) <= math.radians(60)] = np.inf
+            side = (a > math.radians(60)) & (a < math.radians(120))
+            r[side] = 0.3 / np.sin(a[side])
+            s = LidarScan(s.stamp, s.angles, r.astype(np.float32))
+        return s
+
+    loc = AmclLocalisation(AmclConfig(initial_pose=(0.0, 0.0, 0.0)), OCC, MOUNT, lambda: state["odom"], scan)
+    for k in range(1, 31):
+        state["t"] = 0.1 * k
+        loc.tick(state["t"])
+    assert loc.ready()
+    m2o, scans = loc.map_to_odom(), loc.filter.scans
+    state["covered"] = True
+    for k in range(31, 41):  # shoved along: the wheels and the truth move 0.1 m, 0.1 rad
+        state.update(t=0.1 * k, odom=Pose2D(0.01 * (k - 30), 0.0, 0.01 * (k - 30)),
+                     truth=Pose2D(0.01 * (k - 30), 0.0, 0.01 * (k - 30)))
+        loc.tick(state["t"])
+    assert loc.filter.scans == scans and loc.map_to_odom() == m2o
+    state["covered"] = False  # seeing again: updated as before
+    for k in range(41, 46):
+        state["t"] = 0.1 * k
+        loc.tick(state["t"])
+    assert loc.filter.scans > scans
+    p = compose(loc.map_to_odom(), state["odom"])
+    assert distance(p, state["truth"]) < 0.05 and yaw_error(p, state["truth"]) < 0.05
+
+
 def test_the_same_seed_repeats_a_run_and_another_seed_does_not():
     def run(seed):
         rng = np.random.default_rng(10)

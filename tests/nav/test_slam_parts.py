@@ -164,6 +164,40 @@ def test_the_mapper_tracks_a_drive_with_biased_odometry_and_maps_the_pots():
     assert m.occupancy[iy[1], ix[1]] == 50 or m.occupancy[iy[1], ix[1]] == UNKNOWN  # its inside: never seen
 
 
+def test_a_blind_scan_is_neither_registered_nor_drawn_and_the_pose_goes_on_by_odometry():
+    """A cart pushed over the robot (held-out seed 4 of safety.people): the front arc returns
+    nothing, and the cart's faces a hand's width off fill the side beams. Registered, such
+    scans dragged the heading 8 deg round and drew the cart into the map; judged blind
+    (``hw.scan_trust``, the monitor's rule), they move the pose by wheel odometry alone."""
+    occ = greenhouse_occupancy()
+    mount = Pose2D(0.115, 0.0, 0.0)
+    mapper = Mapper(SlamConfig(), mount)
+    truth = Pose2D(1.5, 1.5, 0.0)  # in the aisle between the first two rows; map = this pose
+    lidar = compose(truth, mount)
+    honest = scan_from_occupancy(occ, RES, (lidar.x, lidar.y, lidar.yaw))
+    for _ in range(5):
+        still = mapper.process(honest.angles, honest.ranges, Pose2D())
+    a = np.angle(np.exp(1j * honest.angles.astype(np.float64)))
+    covered = honest.ranges.copy()
+    covered[np.abs(a) <= math.radians(60)] = np.inf  # the front arc: under range_min, no return
+    side = (a > math.radians(60)) & (a < math.radians(120))
+    covered[side] = 0.3 / np.sin(a[side])  # the cart's face 0.3 m to the left, along the robot
+    before = mapper.occupancy()
+    odom = Pose2D()
+    for k in range(1, 11):  # shoved: the wheels felt 1 cm and 0.2 deg a scan
+        odom = Pose2D(0.01 * k, 0.0, math.radians(0.2) * k)
+        pose, wheels = mapper.process(honest.angles, covered, odom), compose(still, odom)
+        assert (pose.x, pose.y, pose.yaw) == pytest.approx((wheels.x, wheels.y, wheels.yaw), abs=1e-9)
+    assert mapper.blind_scans == 10
+    after = mapper.occupancy()
+    face = after.geometry.cell_of(np.linspace(-0.2, 0.3, 6) + mount.x, np.full(6, 0.3))
+    assert (after.occupancy[face[1], face[0]] == before.occupancy[face[1], face[0]]).all()
+    # seeing again, the scans register as before: the wheels' 10 cm and 2 deg are taken back
+    for _ in range(5):
+        pose = mapper.process(honest.angles, honest.ranges, odom)
+    assert math.hypot(pose.x, pose.y) < 0.03 and abs(pose.yaw) < math.radians(0.5), pose
+
+
 def reference_integrate(logodds: np.ndarray, seen: np.ndarray, geometry, sensor_xy, ends: np.ndarray) -> None:
     """The grid update in plain vectorised numpy (sample every beam every half cell, unique the
     cells, a sample within its surface shadow dropped on a cell that leans occupied): what the
