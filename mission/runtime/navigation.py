@@ -5,19 +5,16 @@ Seed rates: MPPI 20 Hz, local costmap 5 Hz, global costmap and replanning 1 Hz, 
 navigator reads wheel odometry, the measured twist and the lidar through callbacks, and writes
 only into the twist_mux's ``auto`` source; the base controller (10 Hz) reads the mux, so
 autonomy goes through the same arbitration and e-stop as a human. The map SLAM hands back
-(once a second) becomes the global costmap's static layer. Localisation matches the scans less
-the returns on the tracked people (``nav.static_scan``): a walker is not the greenhouse.
+(once a second) becomes the global costmap's static layer.
 """
 from __future__ import annotations
 
 from hw.errors import InputError
-from hw.odometry import Pose2D
 from mission.runtime.people import attach_people
 from mission.runtime.robot import Robot
 from mission.runtime.scheduler import Scheduler
 from nav.amcl.localisation import AmclLocalisation
 from nav.costmap.layered import global_costmap, local_costmap
-from nav.frames import compose
 from nav.localisation import Localisation, get_localisation
 from nav.mppi.controller import MppiController
 from nav.navigator import Navigator, Sources
@@ -25,7 +22,6 @@ from nav.occupancy import OccupancyMap
 from nav.planner import NavfnPlanner
 from nav.readiness import Readiness
 from nav.slam.supervisor import SlamSupervisor
-from nav.static_scan import static_scan
 from nav.walks import Walks
 
 AUTO = "auto"
@@ -60,9 +56,7 @@ def attach_navigation(robot: Robot, localisation: Localisation | None = None) ->
     def static_map(m: OccupancyMap) -> None:
         gcm.set_static(m.occupancy, m.resolution, m.origin_x, m.origin_y)
 
-    mount = Pose2D(*cfg.navigator.lidar_mount)
-    seen = static_scan(scan, people.confident, lambda: compose(odom_pose(), mount))
-    localisation = localisation or get_localisation(cfg, odom_pose, seen, static_map, robot.hal.clock.deterministic)
+    localisation = localisation or get_localisation(cfg, odom_pose, scan, static_map, robot.hal.clock.deterministic)
     readiness = Readiness({"scans": lambda: scan() is not None, "map": localisation.has_map,
                            "transform": localisation.ready}, cfg.navigator.readiness_timeout)
     nav = Navigator(cfg, sources, localisation, local_costmap(cfg.costmap, walks, lambda: localisation.map_to_odom()), gcm, NavfnPlanner(cfg.planner),

@@ -18,8 +18,7 @@ from mission.runtime.navigation import MapResetError, clear_map
 from nav.costmap.grid import INSCRIBED, UNKNOWN
 from nav.slam.config import SlamConfig
 from nav.slam.mapper import Mapper
-from nav.frames import yaw_error
-from sim.world import Walker, load_default_world
+from sim.world import load_default_world
 
 pytestmark = pytest.mark.slow
 
@@ -169,30 +168,3 @@ def test_localisation_on_the_saved_survey_map_converges_from_half_a_metre_and_na
     with pytest.raises(MapResetError):
         clear_map(run.nav, run.now)  # no live map to reset on a saved one
     run.close()
-
-
-def test_a_cart_pushed_into_the_robot_standing_in_its_aisle_does_not_move_its_map_pose():
-    """A cart pusher who does not yield walks the south aisle head-on at the robot standing at
-    the dock, stops on it and turns back, shoving it. The tracker follows them, and localisation
-    matches the scans less their returns (``nav.static_scan``): matched with the cart's face
-    closing in, SLAM read the robot as driving 0.55 m at it and then turned 27 deg as the cart
-    covered the lidar."""
-    world = load_default_world()
-    s = world.spawn
-    cart = Walker(id="W1", path=[[s.x + 3.5, s.y], [s.x + 0.3, s.y]], speed=0.63, pause=8.0, start=2.0,
-                  width=0.7, yields=False)
-    world = world.model_copy(update={"walkers": [cart]})
-    run = start_navigate(world, load_config(env={}))
-    try:
-        run.robot.people.watch([(p.x - s.x, p.y - s.y) for p in world.pots], 0.1)
-        run.wait_ready()
-        run.robot.scheduler.run_for(20.0 - run.now)
-        assert "walker_W1_leg_l" in run.bumps or any(k.startswith("walker_W1") for k in run.bumps)
-        truth, belief = np.array([[p.x, p.y] for p in run.truth_path]), np.array([[p.x, p.y] for p in run.odom_path])
-        err = np.hypot(*(truth - belief).T)
-        shoved = math.hypot(run.truth_path[-1].x - s.x, run.truth_path[-1].y - s.y)
-        assert shoved > 0.05  # the cart did move it
-        assert err[-1] < 0.03 and err.max() < 0.1, (err[-1], err.max())
-        assert abs(yaw_error(run.truth_path[-1], run.odom_path[-1])) < math.radians(1.0)
-    finally:
-        run.close()
