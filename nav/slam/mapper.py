@@ -164,19 +164,20 @@ class Mapper:
             self.kept_bytes += self._scans[-1].points.nbytes
             self._queue_kept()
         self._render(self.pose, points)
-        self._rerender_step()
-        self.map_to_odom = compose(self.pose, inverse(odom))
-        self.scans += 1
-        return self.pose
+        return self._done(odom)
 
     def _coast(self, odom: Pose2D) -> Pose2D:
         """A blind scan (``SlamConfig.blind``): the pose moves by wheel odometry alone, and
         nothing of the scan is registered, kept or drawn; a pending re-render goes on."""
         self.pose = compose(self._correction(), self.odometry.coast(odom))
+        self.blind_scans += 1
+        return self._done(odom)
+
+    def _done(self, odom: Pose2D) -> Pose2D:
+        """Every scan's end, blind or not: a share of a pending re-render, ``map_to_odom``."""
         self._rerender_step()
         self.map_to_odom = compose(self.pose, inverse(odom))
         self.scans += 1
-        self.blind_scans += 1
         return self.pose
 
     def occupancy(self) -> OccupancyMap:

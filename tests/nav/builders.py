@@ -85,3 +85,14 @@ def draw_disc(grid: CostGrid, x: float, y: float, radius: float, value: int = LE
     ix, iy = grid.geometry.cell_of(x, y)
     cv2.circle(grid.data, (int(ix), int(iy)), int(round(radius / grid.resolution)), int(value), -1)
     return grid
+
+
+def covered(angles: np.ndarray, ranges: np.ndarray) -> np.ndarray:
+    """``ranges`` as a cart pushed over the robot leaves them: nothing from the front arc
+    (+-60 deg, under range_min), the cart's face 0.3 m to the left along the robot (60-120 deg)."""
+    a = np.angle(np.exp(1j * np.asarray(angles, dtype=np.float64)))
+    out = np.asarray(ranges).copy()
+    out[np.abs(a) <= np.radians(60)] = np.inf
+    side = (a > np.radians(60)) & (a < np.radians(120))
+    out[side] = 0.3 / np.sin(a[side])
+    return out

@@ -23,7 +23,7 @@ from nav.amcl.motion_model import sample_motion
 from nav.amcl.particle_filter import ParticleFilter
 from nav.frames import compose, distance, yaw_error
 from nav.occupancy import OccupancyMap
-from tests.nav.builders import RES, greenhouse_occupancy, scan_from_occupancy
+from tests.nav.builders import RES, covered, greenhouse_occupancy, scan_from_occupancy
 
 MOUNT = Pose2D(0.115, 0.0, 0.0)
 ORIGIN = (-1.0, -0.5)  # the room's south-west corner, in the map frame
@@ -270,12 +270,7 @@ def test_a_blind_scan_is_not_fed_to_the_filter_and_the_pose_follows_odometry():
     def scan():
         s = scan_at(state["truth"], rng, state["t"])
         if state["covered"]:
-            a = np.angle(np.exp(1j * s.angles.astype(np.float64)))
-            r = s.ranges.copy()
-            r[np.abs(a) <= math.radians(60)] = np.inf
-            side = (a > math.radians(60)) & (a < math.radians(120))
-            r[side] = 0.3 / np.sin(a[side])
-            s = LidarScan(s.stamp, s.angles, r.astype(np.float32))
+            s = LidarScan(s.stamp, s.angles, covered(s.angles, s.ranges).astype(np.float32))
         return s
 
     loc = AmclLocalisation(AmclConfig(initial_pose=(0.0, 0.0, 0.0)), OCC, MOUNT, lambda: state["odom"], scan)

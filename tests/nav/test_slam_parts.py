@@ -17,7 +17,7 @@ from nav.slam.grid import LogOddsGrid
 from nav.slam.mapper import Mapper
 from nav.slam.pose_graph import PoseGraph
 from nav.slam.scan_points import scan_points
-from tests.nav.builders import RES, greenhouse_occupancy, scan_from_occupancy
+from tests.nav.builders import RES, covered, greenhouse_occupancy, scan_from_occupancy
 
 
 # -- grid ---------------------------------------------------------------------------------------
@@ -177,16 +177,12 @@ def test_a_blind_scan_is_neither_registered_nor_drawn_and_the_pose_goes_on_by_od
     honest = scan_from_occupancy(occ, RES, (lidar.x, lidar.y, lidar.yaw))
     for _ in range(5):
         still = mapper.process(honest.angles, honest.ranges, Pose2D())
-    a = np.angle(np.exp(1j * honest.angles.astype(np.float64)))
-    covered = honest.ranges.copy()
-    covered[np.abs(a) <= math.radians(60)] = np.inf  # the front arc: under range_min, no return
-    side = (a > math.radians(60)) & (a < math.radians(120))
-    covered[side] = 0.3 / np.sin(a[side])  # the cart's face 0.3 m to the left, along the robot
+    cart = covered(honest.angles, honest.ranges)
     before = mapper.occupancy()
     odom = Pose2D()
     for k in range(1, 11):  # shoved: the wheels felt 1 cm and 0.2 deg a scan
         odom = Pose2D(0.01 * k, 0.0, math.radians(0.2) * k)
-        pose, wheels = mapper.process(honest.angles, covered, odom), compose(still, odom)
+        pose, wheels = mapper.process(honest.angles, cart, odom), compose(still, odom)
         assert (pose.x, pose.y, pose.yaw) == pytest.approx((wheels.x, wheels.y, wheels.yaw), abs=1e-9)
     assert mapper.blind_scans == 10
     after = mapper.occupancy()
