@@ -111,9 +111,8 @@ class PeopleNearby:
         v = self.layer.step_speed if self.gap(p, odom.x, odom.y) > self.layer.wait_clearance else NEAR_SPEED
         rows = self.walks(people)
         want = self.layer.clearance if clearance is None else clearance
-        turning = np.array([self.people.paused(q) is not None for q in people])
         step = refuge_heading(here, rows, grid, self.robot_radius, self.layer.clearance, want,
-                              self.layer.lane_time, WALKING, self._refuge, turning)
+                              self.layer.lane_time, WALKING, self._refuge)
         self._refuge = None if step is None else step.refuge
         if step is None or step.heading is None:
             return ZERO_TWIST

@@ -22,11 +22,7 @@ nearer than they are now), and never goes deeper into the way ahead of a walker 
 never across in front of them. Behind a walker it may cross their lane to a refuge beyond: a
 grower who had stopped for the robot in their aisle waited for it for good while the only way
 out crossed the far end of a cross aisle a cart pusher was walking away along (safety.people
-seed 1, 70-2200 s: 2,100 s of mutual waiting, 24 pots lost). Not behind one who pauses
-(``turning``): at the end of their walk they turn and come back along it, so their lane is
-ahead of them both ways (safety.people seed 1, 1,212 s: the robot set off across the lane of a
-walker who does not yield, paused 0.6 m off at the end of their cross aisle; they turned back
-and passed it 9 cm off while it moved). A robot already standing
+seed 1, 70-2200 s: 2,100 s of mutual waiting, 24 pots lost). A robot already standing
 in the best such place stays, and one heading for a refuge keeps heading for it while it stays
 one (``STICK``, ``SLACK``); with no such place in reach it stands still (standing, a walker who does not yield walks into it, which the judges
 count apart: moving into them is the robot's doing).
@@ -75,22 +71,21 @@ class Step(NamedTuple):
 
 def refuge_heading(here: np.ndarray, people: np.ndarray, grid: CostGrid, robot_radius: float,
                    clearance: float, want: float, lane_time: float, walking: float,
-                   keep: np.ndarray | None = None, turning: np.ndarray | bool = False) -> Step | None:
+                   keep: np.ndarray | None = None) -> Step | None:
     """The step towards the nearest refuge (module docstring) from ``here``, or None: none is
     in reach.
 
     ``people``: (P, 5) rows of x, y, vx, vy, radius in ``grid``'s frame; ``clearance`` the person
     layer's body-to-body keep-out, ``want`` the distance to wait at when there is room for it;
     a person faster than ``walking`` m/s walks a lane; ``keep``: the refuge the last step headed
-    for, kept while it is still one within ``SLACK`` and not ``STICK`` farther than the nearest;
-    ``turning``: per person (or for all), paused at the end of a walk they will walk back."""
+    for, kept while it is still one within ``SLACK`` and not ``STICK`` farther than the nearest."""
     geo = grid.geometry
     h, w = grid.data.shape
     iy, ix = np.mgrid[0:h, 0:w]
     cx, cy = geo.centre_of(ix, iy)
     gap = _gaps(cx, cy, people, robot_radius)
     lane = _lane_gaps(cx, cy, people, robot_radius, lane_time, walking).min(axis=0, initial=np.inf)
-    ahead = _lane_gaps(cx, cy, people, robot_radius, lane_time, walking, back=turning)
+    ahead = _lane_gaps(cx, cy, people, robot_radius, lane_time, walking, back=False)
     (sx,), (sy,) = (np.atleast_1d(a) for a in geo.cell_of(here[0], here[1]))
     if not geo.contains(sx, sy):
         return None
@@ -144,19 +139,18 @@ def _gaps(cx: np.ndarray, cy: np.ndarray, people: np.ndarray, robot_radius: floa
 
 
 def _lane_gaps(cx: np.ndarray, cy: np.ndarray, people: np.ndarray, robot_radius: float, lane_time: float,
-               walking: float, back: np.ndarray | bool = True) -> np.ndarray:
+               walking: float, back: bool = True) -> np.ndarray:
     """(W, H, W) per walker: body-to-body distance from a robot on each cell to their lane (their
-    line ``lane_time`` on and, with ``back`` (per person, or for all), back, at ``PACE`` at least,
-    ``ACROSS`` wide at most each side), m; none with no one walking. Per walker, not the nearest
-    lane: standing deep in one walker's lane must not let the way go deeper into another's."""
+    line ``lane_time`` on and, with ``back``, back, at ``PACE`` at least, ``ACROSS`` wide at most
+    each side), m; none with no one walking. Per walker, not the nearest lane: standing deep in one
+    walker's lane must not let the way go deeper into another's."""
     out = []
-    backs = np.broadcast_to(back, (len(people),))
-    for (x, y, vx, vy, r), both in zip(people, backs):
+    for x, y, vx, vy, r in people:
         speed = np.hypot(vx, vy)
         if speed <= walking:
             continue
         reach = lane_time * max(speed, PACE) / speed
-        behind = reach if both else 0.0
+        behind = reach if back else 0.0
         ax, ay, bx, by = x - vx * behind, y - vy * behind, x + vx * reach, y + vy * reach
         dx, dy = bx - ax, by - ay
         t = np.clip(((cx - ax) * dx + (cy - ay) * dy) / (dx * dx + dy * dy), 0.0, 1.0)

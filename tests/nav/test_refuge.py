@@ -83,15 +83,13 @@ def test_behind_a_walker_it_crosses_their_lane_to_a_refuge_beyond():
     grower = (11.0, 2.5, 0.7, 0.0, 0.35)  # a cart, stopped: the velocity of their last stride
     away = (12.75, 3.6, 0.0, 0.7, 0.35)  # the cross aisle's cart pusher, walking north, away
 
-    def heading(*people, turning=False):
+    def heading(*people):
         return _u(refuge_heading(here, np.array(people, dtype=float), grid, RADIUS, LAYER.clearance,
-                                 LAYER.wait_clearance, LAYER.lane_time, WALKING, turning=turning))
+                                 LAYER.wait_clearance, LAYER.lane_time, WALKING))
     u = heading(grower, away)
     assert u is not None and u[0] > 0.5  # east, across the cart's lane behind it
     coming = (12.75, 3.6, 0.0, -0.7, 0.35)
     assert heading(grower, coming) is None  # across its way ahead: wait in the aisle
-    # paused at the end of its walk, the cart will turn and come back: behind it is ahead of it
-    assert heading(grower, away, turning=np.array([False, True])) is None
 
 
 def test_the_refuge_chosen_is_kept_while_a_carts_heading_estimate_swings():
