@@ -31,12 +31,9 @@ is one. Where there is none, the goal *waits* instead of failing or squeezing: z
 deadline and progress check stopped, replanning at 1 Hz, while a person stands in the only way
 (no plan on the global costmap, but one on it with the people's bodies taken out:
 ``without_people``), on the goal itself (inside a person's keep-out), or so close that MPPI has
-no valid control (recovery would back off into whoever is behind). Those waits count against
-``person_wait``, the collision monitor's holds for anything else against ``blocked_wait``, each
-on its own clock; past either the goal fails ``blocked`` and the patrol comes back to the pot
-after the others (a bounded wait, then retry). One clock for both made a goal that had waited
-15 s for a grower fail at the first hold for a pot after it (safety.people seed 1: 10 of 12
-failed goals between 170 and 700 s, each "something in the way for 15 s" on its first tick of it).
+no valid control (recovery would back off into whoever is behind). Those waits and the
+collision monitor's holds count together against ``blocked_wait``; past it the goal fails
+``blocked`` and the patrol comes back to the pot after the others (a bounded wait, then retry).
 A person's keep-out reaches along their next ``predict_time`` s of walking, and while the robot
 stands inside it (a walker who does not yield is coming) it does not just stand there: it steps
 out of the way (``nav.people_nearby``) to the nearest place out of everyone's way
@@ -169,11 +166,8 @@ class Navigator(Waits, Recovery):
         self.blind = False
         """True while a goal holds for want of a fresh scan (``scan_timeout``)."""
         self.held_for = 0.0
-        """Seconds this goal has waited in all, for people and held by the collision monitor."""
-        self._waited = {False: 0.0, True: 0.0}
-        """Seconds this goal has waited for things (``blocked_wait``) and for people (``person_wait``)."""
-        self.holding_at = -math.inf
-        """The control tick that last held the goal (``holding``)."""
+        """Seconds this goal has waited, held by the collision monitor or for a person in the
+        way (``blocked_wait``)."""
         self.waiting_for = ""
         """Why the goal waits for people now ('' while it does not)."""
         self._person_blocks = self._start_blocked = False
@@ -201,7 +195,6 @@ class Navigator(Waits, Recovery):
         self._recoveries = self._replans = self._plan_failures = 0
         self._checkpoint = None
         self.held_for = 0.0
-        self._waited = {False: 0.0, True: 0.0}
         self.waiting_for, self._person_blocks, self._start_blocked = "", False, False
         self._last_attempt = -math.inf
         self.path = None
@@ -289,23 +282,14 @@ class Navigator(Waits, Recovery):
             self.blind = blind
         return blind
 
-    def holding(self, now: float) -> bool:
-        """Did the goal's last control tick (at ``now`` or one beat before) wait rather than
-        drive? A patrol's time limit on the drive stops meanwhile, as the goal's own does."""
-        return self.active and now - self.holding_at <= 2.0 / self.config.mppi.frequency
-
-    def _hold(self, now: float, dt: float, why: str, people: bool = False) -> bool:
-        """Count ``dt`` of waiting, for ``people`` (against ``person_wait``) or not (against
-        ``blocked_wait``), with the goal's clocks stopped; True when the wait ran out and the
-        goal failed ``blocked``."""
-        cfg = self.config.navigator
-        wait = cfg.person_wait if people else cfg.blocked_wait
-        if self._waited[people] == 0.0:
+    def _hold(self, now: float, dt: float, why: str, wait: float | None = None) -> bool:
+        """Count ``dt`` of waiting against ``wait`` (``blocked_wait`` when None) with the goal's
+        clocks stopped; True when the wait ran out and the goal failed ``blocked``."""
+        wait = self.config.navigator.blocked_wait if wait is None else wait
+        if self.held_for == 0.0:
             log.info("%s: waiting up to %.0f s", why, wait)
         self.held_for += dt
-        self.holding_at = now
-        self._waited[people] += dt
-        if self._waited[people] > wait:
+        if self.held_for > wait:
             self._finish(State.FAILED, f"blocked: {why} for {wait:g} s", now)
             return True
         self._deadline += dt
@@ -378,7 +362,7 @@ class Navigator(Waits, Recovery):
                 self.io.publish(ZERO_TWIST, now)
                 return
             if self._person_close():  # a person's keep-out: out of their way, not a recovery
-                if not self._hold(now, dt, "a person close by", people=True):
+                if not self._hold(now, dt, "a person close by", self.config.navigator.person_wait):
                     self.io.publish(self._evade(), now)
                 return
             self._start_recovery(now, str(exc))

@@ -1,9 +1,9 @@
 """The goal's waits for people and for room (issue 28 item 2), the navigator's side of them.
 
 Each is asked by ``Navigator.tick_control`` before it follows its plan, and each either lets the
-goal go on (False) or holds it (True), counting the wait against ``person_wait`` (people) or
-``blocked_wait`` (anything else) through the navigator's ``_hold`` and publishing what the robot
-does meanwhile (zero, or a step out of the way from ``nav.people_nearby``). Why each exists is in
+goal go on (False) or holds it (True), counting the wait against ``person_wait`` or
+``blocked_wait`` through the navigator's ``_hold`` and publishing what the robot does meanwhile
+(zero, or a step out of the way from ``nav.people_nearby``). Why each exists is in
 ``nav.navigator``'s docstring; a mixin, so the navigator module stays the goal's life and these
 its pauses.
 """
@@ -47,19 +47,19 @@ class Waits:
 
     def _waiting(self, now: float, dt: float) -> bool:
         """While the collision monitor holds the base, the goal's clocks (its deadline and its
-        progress check) stop, for at most ``blocked_wait`` seconds of holding in all: a crate
-        that keeps showing in and out of the way adds up. True when that ran out and the goal
-        failed ``blocked``. When what holds it is a person (someone within ``wait_clearance``: a
-        grower who stopped for the robot, waiting for it to leave their way), the wait is for
-        them, up to ``person_wait``, and the robot steps back from them where it can instead of
-        pressing on: pressing on, robot and grower waited for each other until the goal failed."""
+        progress check) stop, for at most ``blocked_wait`` seconds of holding in all: a person
+        who keeps stepping in and out of the way adds up. True when that ran out and the goal
+        failed ``blocked``. When what holds it is a person (within ``wait_clearance``: a grower
+        who stopped for the robot, waiting for it to leave their way), the robot steps back
+        from them instead of pressing on, for up to ``person_wait``: pressing on, robot and
+        grower waited for each other until the goal failed."""
         if not self.io.held():
             return False
         back = self._evade(self.people.layer.wait_clearance) if self.people.counted() else ZERO_TWIST
-        if back == ZERO_TWIST and not self._person_within(self.people.layer.wait_clearance):
+        if back == ZERO_TWIST:
             return self._hold(now, dt, "something in the way")
         self.smoother.reset()
-        if not self._hold(now, dt, "a person close by", people=True):
+        if not self._hold(now, dt, "a person close by", self.config.navigator.person_wait):
             self.io.publish(back, now)
         return True
 
@@ -78,7 +78,7 @@ class Waits:
         if not why:
             return False
         self.smoother.reset()
-        if not self._hold(now, dt, why, people=True):  # at a distance: ``wait_clearance``
+        if not self._hold(now, dt, why, self.config.navigator.person_wait):  # at a distance: ``wait_clearance``
             self.io.publish(self._evade(self.people.layer.wait_clearance), now)
         return True
 
@@ -92,7 +92,7 @@ class Waits:
             log.info("waiting: %s", why)
             self.waiting_for = why
         self.smoother.reset()
-        if not self._hold(now, dt, why, people=True):
+        if not self._hold(now, dt, why, self.config.navigator.person_wait):
             self.io.publish(self._evade(reach=self.people.layer.lane_time), now)
         return True
 
@@ -101,7 +101,8 @@ class Waits:
         pose = self.map_pose()
         if math.hypot(pose.x - self.goal.x, pose.y - self.goal.y) >= FINISH:
             return False
-        return not self._person_within(self.people.layer.wait_clearance)
+        odom = self.io.odom_pose()
+        return all(self.people.gap(p, odom.x, odom.y) > self.people.layer.wait_clearance for p in self.people.counted())
 
     def _whom(self) -> str:
         """Who a wait for people waits for, in its words: "a robot" when everyone counted stands
@@ -110,11 +111,6 @@ class Waits:
         if people and robots is not None and all(robots.near(float(a[0]), float(a[1])) for a, _, _ in people):
             return "a robot"
         return "a person"
-
-    def _person_within(self, gap: float) -> bool:
-        """Is anyone counted within ``gap`` of the robot, body to body?"""
-        odom = self.io.odom_pose()
-        return any(self.people.gap(p, odom.x, odom.y) < gap for p in self.people.counted())
 
     def _person_close(self) -> bool:
         """Is the robot itself inside a person's keep-out (they came to it, or are coming)?"""

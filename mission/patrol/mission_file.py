@@ -64,8 +64,7 @@ class Mission(StrictEntry):
     retries: int = Field(2, ge=1)
     """Navigation attempts per pot before it is marked failed."""
     nav_timeout: float = Field(60.0, gt=0)
-    """Seconds per navigation attempt, its waits for people and for room not counted (they have
-    the navigator's own limits, ``person_wait`` and ``blocked_wait``)."""
+    """Seconds per navigation attempt."""
     return_home: bool = True
     """Drive home at the end."""
     pots: list[MissionPot] = Field(min_length=1)

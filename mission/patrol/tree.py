@@ -215,17 +215,10 @@ class PatrolTree:
     def _timed(self, child: Behaviour, duration: float) -> Timeout:
         return Timeout(f"{child.name} (timeout)", child, self.clock, duration)
 
-    def _timed_drive(self, drive: NavigateTo) -> Timeout:
-        """``drive`` within the mission's ``nav_timeout``, which the navigator's waits (for
-        people, or held by the collision monitor) do not count towards, as they do not towards
-        the goal's own deadline: they have their own limits (``person_wait``, ``blocked_wait``)."""
-        return Timeout(f"{drive.name} (timeout)", drive, self.clock, self.mission.nav_timeout,
-                       lambda: self.nav.holding(self.clock.now()))
-
     def _drive(self, name: str, goal: Callable[[], Pose2D], on_start: Callable[[], None] = lambda: None,
                xy_tolerance: float | None = None, tries: int | None = None) -> Retry:
         """Drive to ``goal``, ``tries`` attempts (the mission's ``retries`` when None)."""
-        attempt = self._timed_drive(NavigateTo(name, self.nav, goal, self.clock, on_start, xy_tolerance))
+        attempt = self._timed(NavigateTo(name, self.nav, goal, self.clock, on_start, xy_tolerance), self.mission.nav_timeout)
         if self.gate is not None:  # the aisles first, outside the drive's time limit: a wait may be long
             attempt = Sequence(f"{name} (aisles)", memory=True, children=[
                 EnterAisles(f"aisles for {name}", self.gate, self.nav, goal, self.clock, self._lengths_from, RETRY), attempt])
@@ -340,8 +333,8 @@ class PatrolTree:
             return bool(visit.aside) or (not visit.moved and off <= c.moved_approach_xy * 1.5)
 
         again = Selector(f"approach again {pot.id}", memory=True, children=[
-            self._timed_drive(NavigateTo(f"approach closely {pot.id}", self.nav, lambda: self.approach_goal(pot), clock,
-                                         count, c.moved_approach_xy)),
+            self._timed(NavigateTo(f"approach closely {pot.id}", self.nav, lambda: self.approach_goal(pot), clock,
+                                   count, c.moved_approach_xy), self.mission.nav_timeout),
             self._drive(f"approach again {pot.id}", lambda: self.approach_goal(pot), count)])
         moved = Selector(f"moved {pot.id}", memory=True, children=[
             Check(f"in place {pot.id}", in_place),
