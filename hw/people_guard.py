@@ -21,16 +21,6 @@ The guard only ever scales or removes motion, never adds or turns any. People co
 (``hw.people.PeopleSource``, odom frame, read each tick) with the robot's odom pose: ``hw``
 never imports perception, the runtime hands the tracker's tracks in. Body to body is from the
 footprint circle (``nav.costmap.robot_radius``, passed in) to the person's radius.
-
-Up close the tracker's circle is a poor body: it holds all of a cart and its pusher, so beside a
-cart it reads the robot 0.3 m nearer than it is, or the cart's corner lies outside it. So with
-the scan at hand (``seen``: the newest returns off the robot, base frame, as the collision
-monitor keeps them) a person's gap is measured on the returns within their circle (``ON_BODY``):
-the nearest of them, moved by as much as the circle's walk closes in the lookahead; and
-"towards them" is towards each of those returns within ``near_distance``, not only their
-centre. safety.people seed 2 (main 4fa5e96, at 628 s): a cart pusher who had stopped for the
-robot 0.30 m off read -0.04 m, the robot stood its 5 s, then stepped off past the cart's
-corner, which the circle did not hold, to 0.23 m.
 """
 from __future__ import annotations
 
@@ -49,15 +39,6 @@ from hw.people import PeopleSource, nobody
 MOVING = 1e-3
 
 NONE, SLOW, AWAY, STILL = "none", "slow", "away", "still"
-
-#: A return this far outside a person's tracked circle is still theirs, m: the C1's noise and a
-#: scan's worth of their walk (0.1 s at 1 m/s, less the circle's own margin).
-ON_BODY = 0.05
-
-
-def no_returns() -> np.ndarray:
-    """``seen`` where no scan is at hand: the circles alone."""
-    return np.empty((0, 2))
 
 
 class TwistGuard(Protocol):
@@ -86,8 +67,7 @@ CLEAR = PeopleVerdict(NONE, 1.0, math.inf)
 
 class PeopleGuard:
     def __init__(self, config: PeopleGuardConfig, pose: Callable[[], Pose2D], footprint_radius: float,
-                 people: PeopleSource = nobody, below: TwistGuard | None = None,
-                 seen: Callable[[], np.ndarray] = no_returns):
+                 people: PeopleSource = nobody, below: TwistGuard | None = None):
         self.config = config
         self.pose = pose
         """The robot's odom pose (wheel odometry): the frame people come in."""
@@ -96,8 +76,6 @@ class PeopleGuard:
         """The tracker's people; ``hw.people.nobody`` until a tracker runs."""
         self.below = below
         """The next guard down (the collision monitor), handed what this one lets through."""
-        self.seen = seen
-        """The newest scan's returns off the robot, (N, 2) base frame (module docstring)."""
         self.verdict = CLEAR
         """The last twist's verdict."""
         self._still_since: float | None = None
@@ -112,7 +90,7 @@ class PeopleGuard:
         speed = math.hypot(twist.vx, twist.vy)
         rel = self._relative()
         near = self._near(rel)
-        soon = self._soonest_gap(rel, near)
+        soon = self._soonest_gap(rel)
         close = soon < self.config.still_distance
         if not close:
             self._still_since = None
@@ -124,15 +102,13 @@ class PeopleGuard:
         if speed < MOVING or near is None:
             self.verdict = CLEAR if near is None else PeopleVerdict(NONE, 1.0, float(near[1].min()))
             return twist
-        toward, gap = near[:2]
+        toward, gap = near
         c = self.config
         action, v, wz = NONE, np.array([twist.vx, twist.vy]), twist.wz
         if gap.min() < c.slow_distance and speed > c.slow_speed:
             s = c.slow_speed / speed
             action, v, wz = SLOW, v * s, wz * s
         close = toward[gap < c.near_distance]
-        if len(close):
-            close = np.vstack([close, self._towards_seen(near)])
         if len(close):
             before = float(np.hypot(*v))
             v = _without_towards(v, close)
@@ -148,15 +124,13 @@ class PeopleGuard:
         return np.array([[p.x - r.x, p.y - r.y, p.vx, p.vy, p.radius] for p in self.people()
                          if p.confidence >= self.config.min_confidence]).reshape(-1, 5)
 
-    def _soonest_gap(self, rel: np.ndarray, near: tuple | None = None) -> float:
+    def _soonest_gap(self, rel: np.ndarray) -> float:
         """The least body-to-body distance to anyone, now or where their walk takes them within
         ``still_lookahead`` (a grower crossing at 0.8 m/s closes 0.08 m per base tick, and the
         tracker sees them a scan late); inf with nobody about. Someone walking straight at the
         robot counts too: once they are that close a step aside (0.15 m/s within 1 m) cannot
         clear their way before they arrive, and moving beside them is the robot's doing, where
-        being walked into standing still is theirs. Now is measured on the scan where it has
-        their returns (``near`` given: module docstring), and their walk closes it by as much as
-        it closes their circle's. Getting out of a walker's way is the
+        being walked into standing still is theirs. Getting out of a walker's way is the
         navigator's, while they are still metres off (``nav.refuge``). Such a walker used to be
         stepped away from here: in safety.people's traces (seed 1 at 116 s) the step ended with
         a cart that does not yield 0.17 m into the body of a robot still moving."""
@@ -165,52 +139,18 @@ class PeopleGuard:
         t = np.linspace(0.0, self.config.still_lookahead, 4)
         x = rel[:, None, 0] + rel[:, None, 2] * t
         y = rel[:, None, 1] + rel[:, None, 3] * t
-        circle = np.hypot(x, y) - rel[:, None, 4] - self.radius
-        now = circle[:, 0] if near is None else self._measured(near)
-        return float((now + (circle.min(axis=1) - circle[:, 0])).min())
+        return float((np.hypot(x, y) - rel[:, None, 4]).min() - self.radius)
 
-    def _own_returns(self, near: tuple) -> list[np.ndarray]:
-        """Per person (as ``_near`` gave them), the scan's returns within their circle, base frame."""
-        pts = self.seen()
-        if not len(pts):
-            return [pts] * len(near[1])
-        centre, radius = near[2], near[3]
-        d = np.hypot(*(pts[None, :, :] - centre[:, None, :]).transpose(2, 0, 1))
-        return [pts[row <= r + ON_BODY] for row, r in zip(d, radius)]
-
-    def _measured(self, near: tuple) -> np.ndarray:
-        """Per person, body to body now: from the nearest of their returns where the scan has
-        any, never less than from their circle (which holds what the tracker saw of them: a
-        return just outside it is their walk since, or noise)."""
-        gap = near[1].copy()
-        for k, own in enumerate(self._own_returns(near)):
-            if len(own):
-                gap[k] = max(gap[k], float(np.hypot(own[:, 0], own[:, 1]).min()) - self.radius)
-        return gap
-
-    def _towards_seen(self, near: tuple) -> np.ndarray:
-        """Unit directions (base frame) to the returns of the people within ``near_distance``
-        that lie within it themselves."""
-        out = [np.empty((0, 2))]
-        for own, gap in zip(self._own_returns(near), near[1]):
-            if gap >= self.config.near_distance or not len(own):
-                continue
-            d = np.hypot(own[:, 0], own[:, 1])
-            close = d - self.radius < self.config.near_distance
-            out.append(own[close] / np.maximum(d[close], 1e-9)[:, None])
-        return np.vstack(out)
-
-    def _near(self, rel: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None:
-        """Unit directions to the people that count (base frame, (P, 2)), their body-to-body
-        distances by their circles, and the circles' centres (base frame) and radii; None with
-        nobody about."""
+    def _near(self, rel: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+        """Unit directions to the people that count (base frame, (P, 2)) and their body-to-body
+        distances; None with nobody about."""
         if not len(rel):
             return None
         yaw = self.pose().yaw
         c, s = math.cos(yaw), math.sin(yaw)
         base = rel[:, :2] @ np.array([[c, -s], [s, c]])  # world -> base: rotate by -yaw
         dist = np.maximum(np.hypot(base[:, 0], base[:, 1]), 1e-9)
-        return base / dist[:, None], dist - rel[:, 4] - self.radius, base, rel[:, 4]
+        return base / dist[:, None], dist - rel[:, 4] - self.radius
 
 
 def _without_towards(v: np.ndarray, toward: np.ndarray) -> np.ndarray:

@@ -421,15 +421,13 @@ def seen_free(live: OccupancyMap, on: GridGeometry, margin: float) -> np.ndarray
 def attach_people(robot: "Robot", map_to_odom: Callable[[], Pose2D],
                   occupancy: Callable[[], Optional[OccupancyMap]]) -> People:
     """The tracker on ``robot``'s lidar and odometry, scheduled; the people guard put on the base
-    above whatever guards it now (the collision monitor), reading the same people and the
-    monitor's returns off the robot (``hw.people_guard``: a body measured on the scan)."""
+    above whatever guards it now (the collision monitor), reading the same people."""
     cfg = robot.config
     base = robot.base
     people = People(cfg.perception.people, robot.hal.lidar.latest_scan, lambda: base.odometry.pose,
                     Pose2D(*cfg.nav.navigator.lidar_mount), map_to_odom, occupancy)
     people.guard = base.guard = PeopleGuard(cfg.hw.people_guard, lambda: base.odometry.pose,
-                                            cfg.nav.costmap.robot_radius, people.confident, below=base.guard,
-                                            seen=lambda: robot.monitor.points)
+                                            cfg.nav.costmap.robot_radius, people.confident, below=base.guard)
     robot.people = people
     robot.scheduler.every("people", RATE, people.tick)
     return people

@@ -72,31 +72,6 @@ def test_someone_at_arms_length_stops_every_motion_turning_and_away_included():
     assert g.judge(Twist(0.0, -0.1, 0.0), 10.0) == Twist(0.0, -0.1, 0.0)
 
 
-def _cart_face(x: float, y0: float, y1: float) -> np.ndarray:
-    """A cart's near face as the lidar sees it: returns every 2 cm along x = ``x``, base frame."""
-    y = np.arange(y0, y1 + 1e-9, 0.02)
-    return np.column_stack([np.full(len(y), x), y])
-
-
-def test_on_the_scan_a_cart_whose_circle_overlaps_the_robot_is_measured_where_it_is():
-    """safety.people seed 2, 628 s: a cart that stopped for the robot 0.30 m off, its tracked
-    circle (the cart and its pusher) reaching over the robot's body. By the circle the robot
-    stood 5 s, then stepped off past the cart's corner, which lay outside the circle, to 0.23 m;
-    measured on the returns it steps away at once, and not towards the corner."""
-    cart = at(0.9, 0.3, radius=0.5)  # circle gap -0.08 m
-    face = _cart_face(0.52, -0.2, 0.6)  # what the lidar sees: 0.30 m off, its corner south-east
-    g = PeopleGuard(PeopleGuardConfig(), lambda: Pose2D(), R, lambda: [cart], seen=lambda: face)
-    assert g.judge(Twist(-0.1, 0.0, 0.0), 1.0) == Twist(-0.1, 0.0, 0.0)  # straight away: at once
-    south = g.judge(Twist(0.0, -0.1, 0.0), 1.0)  # south, past the corner: its share towards it goes
-    assert south.vx <= 1e-9 and speed(south) < 0.1 and g.verdict.action == AWAY
-    assert g.judge(Twist(0.1, 0.0, 0.0), 1.0).vx <= 1e-9  # towards the face: none of it
-    circles = guard(cart)
-    assert circles.judge(Twist(-0.1, 0.0, 0.0), 1.0) == Twist(0.0, 0.0, 0.0) and circles.verdict.action == STILL
-    # truly at arm's length on the scan, it stands as before
-    close = PeopleGuard(PeopleGuardConfig(), lambda: Pose2D(), R, lambda: [cart], seen=lambda: face - [0.12, 0.0])
-    assert close.judge(Twist(-0.1, 0.0, 0.0), 1.0) == Twist(0.0, 0.0, 0.0) and close.verdict.action == STILL
-
-
 def test_someone_passing_close_by_or_walking_into_the_robot_counts_as_there_already():
     passing = Person(1, 0.15, 0.66, -0.8, 0.0, 0.2, 0.9)  # 0.26 m off, crossing to 0.24 m beside it at 0.8 m/s
     g = guard(passing)
