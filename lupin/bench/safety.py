@@ -19,7 +19,9 @@ body-to-body clearance while it moves (goal >= 0.25 m) and the 5th percentile of
 encounter's; the time lost per encounter (median, p95: the collision monitor's withheld share of
 the commanded speed, integrated over the encounter); patrol success (every pot inspected and
 read right, as ``patrol.generated`` judges; goal >= 0.98); and each patrol's robot time beside
-the same world's without walkers.
+the same world's without walkers. So that a figure can be followed back to what made it, the
+``CLOSEST`` nearest passes while moving come with their seed, walker, kind, sim time and the
+robot's place, and each patrol not all correct with its pots and why.
 """
 from __future__ import annotations
 
@@ -42,6 +44,7 @@ from mission.patrol.mission_file import mission_from_world
 from mission.runtime.config import LupinConfig
 from sim.backend import SimRobot
 from sim.generate import generate_world
+from sim.walkers import CART_HALF_WIDTH
 from sim.world import Walker, World, load_default_world
 
 POSES = [(x, y, yaw) for x in (2.5, 3.5, 4.5) for y, yaw in ((0.5, 0.0), (2.5, math.pi))]
@@ -59,6 +62,8 @@ ENCOUNTERS_ENV = "LUPIN_BENCH_PEOPLE_ENCOUNTERS"
 MAX_WORLDS = 100
 """Seeds tried at most (a run that cannot reach the count says so rather than running on)."""
 ROWS, PER_ROW, BAYS = 6, 4, 2
+CLOSEST = 5
+"""The nearest passes while moving listed with where and when they happened."""
 
 
 @benchmark("safety.collision_monitor")
@@ -103,6 +108,36 @@ def _patrol(world: World, config: LupinConfig) -> tuple[dict, PeopleLog]:
             run.close()
 
 
+def _kind(walker: Walker) -> str:
+    """What a walker is, in the words of ``sim.generate.ROLES``."""
+    if len(walker.path) == 1:
+        return walker.posture
+    return "cart" if walker.width > 2 * CART_HALF_WIDTH else "walking"
+
+
+def _passes(seed: int, world: World, log: PeopleLog) -> list[dict]:
+    """Each encounter met while moving: how near, who (seed, walker, kind), when and where."""
+    walkers = {w.id: w for w in world.walkers}
+    out = []
+    for e in log.encounters:
+        if e["moving_at"] is None:
+            continue
+        t, x, y = e["moving_at"]
+        w = walkers[e["walker"]]
+        out.append({"clearance_m": round(e["nearest_moving_m"], 3), "seed": seed, "walker": w.id, "kind": _kind(w),
+                    "yields": w.yields, "t_s": round(t, 2), "robot_xy": [round(x, 2), round(y, 2)]})
+    return out
+
+
+def _wrong(world: World, doc: dict) -> list[dict]:
+    """The report's pots not judged right, with their status and why (its failures; an inspected
+    pot read wrong; a pot skipped, not visited)."""
+    def why(p: dict) -> str:
+        return "; ".join(p.get("failures", {}).values()) or ("read wrong" if p["status"] == "inspected" else "not visited")
+    return [{"pot": p["id"], "status": p["status"], "why": why(p)}
+            for p in doc["pots"] if not correct_pots(world, {"pots": [p]})]
+
+
 def _wanted() -> int:
     text = os.environ.get(ENCOUNTERS_ENV)
     if text is None:
@@ -119,7 +154,7 @@ def _pct(values: list[float], q: float) -> float | None:
 @benchmark("safety.people")
 def people(config: LupinConfig) -> Sample:
     wanted = _wanted()
-    met, robot_time, empty_time, failed = [], [], [], []
+    met, robot_time, empty_time, failed, passes = [], [], [], [], []
     contacts = touched = patrols = correct = pots = 0
     least = math.inf
     for seed in range(1, MAX_WORLDS + 1):
@@ -129,13 +164,15 @@ def people(config: LupinConfig) -> Sample:
         doc, log = _patrol(world, config)
         patrols += 1
         met += log.encounters
+        passes += _passes(seed, world, log)
         least = min(least, log.clearance)
         contacts += len(log.moving_contacts)
         touched += len(log.contacts.onsets)
         right = correct_pots(world, doc)
         correct, pots = correct + right, pots + len(world.pots)
         if right < len(world.pots) or doc["outcome"] != "completed":
-            failed.append({"seed": seed, "outcome": doc["outcome"], "correct": right, "pots": len(world.pots)})
+            failed.append({"seed": seed, "outcome": doc["outcome"], "correct": right, "pots": len(world.pots),
+                           "wrong": _wrong(world, doc)})
         robot_time.append(doc["sim_time_s"])
         empty_time.append(_patrol(world.model_copy(update={"walkers": []}), config)[0]["sim_time_s"])
     nearest = [e["nearest_moving_m"] for e in met if e["nearest_moving_m"] is not None]
@@ -152,4 +189,5 @@ def people(config: LupinConfig) -> Sample:
         "patrol_time_median_s": _pct(robot_time, 50), "patrol_time_p95_s": _pct(robot_time, 95),
         "empty_patrol_time_median_s": _pct(empty_time, 50),
         "extra_time_per_patrol_median_s": _pct(extra, 50), "extra_time_per_patrol_p95_s": _pct(extra, 95),
+        "closest_while_moving": sorted(passes, key=lambda p: p["clearance_m"])[:CLOSEST],
         "patrols_not_all_correct": failed})

@@ -81,7 +81,8 @@ class PeopleLog:
         """The least clearance at any moment, the robot standing included (for the record)."""
         self.encounters: list[dict] = []
         """Every walker within ``NEAR``: walker, t (sim time), x, y (robot), nearest_m (at any moment),
-        nearest_moving_m (while the robot moved; None: it stood throughout), lost_s."""
+        nearest_moving_m (while the robot moved; None: it stood throughout), moving_at (sim time,
+        robot x, y of that least while moving; None with it), lost_s."""
         self._open: dict[str, dict] = {}
         self._trail: deque[tuple[float, float, float, float]] = deque()
         self._last: float | None = None
@@ -138,11 +139,11 @@ class PeopleLog:
         if gap < NEAR:
             if e is None:
                 e = self._open[walker] = {"walker": walker, "t": t, "x": x, "y": y, "nearest_m": gap,
-                                          "nearest_moving_m": None, "lost_s": 0.0}
+                                          "nearest_moving_m": None, "moving_at": None, "lost_s": 0.0}
                 self.encounters.append(e)
             e["nearest_m"], e["_near"] = min(e["nearest_m"], gap), t
-            if moving:
-                e["nearest_moving_m"] = gap if e["nearest_moving_m"] is None else min(e["nearest_moving_m"], gap)
+            if moving and (e["nearest_moving_m"] is None or gap < e["nearest_moving_m"]):
+                e["nearest_moving_m"], e["moving_at"] = gap, (t, x, y)
         elif e is not None and t - e["_near"] >= GAP:
             del self._open[walker]
 

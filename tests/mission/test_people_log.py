@@ -52,6 +52,8 @@ def test_a_robot_driving_past_a_worker_is_judged_and_met_once():
     assert log.clearance == pytest.approx(body, abs=0.02)      # the arm, folded, stays over the footprint
     assert len(log.encounters) == 1 and log.moving_contacts == []
     assert log.close_at["W1"][1] == pytest.approx(4.0, abs=0.1)
+    met = log.encounters[0]  # the encounter keeps where and when its least while moving was
+    assert met["nearest_moving_m"] == pytest.approx(log.clearance) and met["moving_at"][1] == pytest.approx(4.0, abs=0.1)
 
 
 def test_a_robot_driving_into_a_worker_is_a_contact_while_moving():
