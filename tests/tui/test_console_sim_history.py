@@ -62,6 +62,7 @@ def test_the_console_reads_a_served_history(tmp_path):
             await app.workers.wait_for_complete()
             await pilot.pause()
             seen["streaks"] = {r[0]: r[-1] for r in table.rows}
+            table.select("P01")  # picked: the pot in progress may already be P02 on a loaded machine
             await pilot.press("i")
             assert await until(pilot, lambda: isinstance(app.screen, Timeline) and app.screen.entries is not None)
             seen["timeline"] = (app.screen.pot, [(e["patrol"], e["bug"]) for e in app.screen.entries])
