@@ -356,7 +356,7 @@ def _standing(w) -> list[str]:
         _static(f"walker_{w.id}_torso", f'type="box" pos="0 0 1.18" size="0.12 {half:.3f} 0.32" material="walker_clothes"'),
         _static(f"walker_{w.id}_head", 'type="sphere" pos="0 0 1.64" size="0.11" material="walker_skin"'),
     ]
-    if w.width > 0.6:  # the cart: a box in front at knee height, as wide as the walker
+    if w.pushes_cart:  # the cart: a box in front at knee height, as wide as the walker
         parts.append(_static(f"walker_{w.id}_cart", f'type="box" pos="0.45 0 0.45" size="0.3 {half:.3f} 0.25" '
                              'material="spare_box"'))
     return parts

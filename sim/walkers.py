@@ -22,12 +22,13 @@ import mujoco
 import numpy as np
 
 from sim.engine import Engine
+from sim.world import CART_FROM_WIDTH
 from sim.world_checks import CROUCHING_MAX_WIDTH, ROBOT_RADIUS
 
 LEG_RADIUS = 0.07
 """A leg's radius, m (``sim.greenhouse``'s walker model: legs half the width apart)."""
-CART_HALF_WIDTH = 0.3
-"""A walker wider than twice this pushes a cart (``sim.greenhouse``)."""
+CART_HALF_WIDTH = CART_FROM_WIDTH / 2
+"""A walker wider than twice this pushes a cart (``sim.world.Walker.pushes_cart``)."""
 CART_AHEAD, CART_HALF_DEPTH = 0.45, 0.3
 """The cart's centre ahead of the walker and its half depth, m (``sim.greenhouse``)."""
 

@@ -101,6 +101,11 @@ class Obstacle(StrictEntry):
     """Height, m. The default 0.8 m stands well above the lidar plane, so the robot sees it."""
 
 
+CART_FROM_WIDTH = 0.6
+"""A walker wider than this pushes a cart, m (spec/world.md ``width``: 0.45 a person, up to 1.2 one
+with a cart)."""
+
+
 class Walker(StrictEntry):
     """A person in the greenhouse (spec/world.md): walking ``path`` and back for ever, or, with a
     path of one point, a worker who stays there."""
@@ -126,6 +131,12 @@ class Walker(StrictEntry):
     posture: Literal["standing", "crouching"] = "standing"
     """``crouching``: kneeling or squatting at a bench, one compact body about 0.5 x 0.6 m and
     1.0 m tall with no legs apart in the lidar's plane (easily taken for a pot or a crate)."""
+
+    @property
+    def pushes_cart(self) -> bool:
+        """Wider than ``CART_FROM_WIDTH``: one pushing a cart (the sim builds the cart, and it
+        moves with them)."""
+        return self.width > CART_FROM_WIDTH
 
 
 class Climate(StrictEntry):

@@ -44,7 +44,6 @@ from mission.patrol.mission_file import mission_from_world
 from mission.runtime.config import LupinConfig
 from sim.backend import SimRobot
 from sim.generate import generate_world
-from sim.walkers import CART_HALF_WIDTH
 from sim.world import Walker, World, load_default_world
 
 POSES = [(x, y, yaw) for x in (2.5, 3.5, 4.5) for y, yaw in ((0.5, 0.0), (2.5, math.pi))]
@@ -112,7 +111,7 @@ def _kind(walker: Walker) -> str:
     """What a walker is, in the words of ``sim.generate.ROLES``."""
     if len(walker.path) == 1:
         return walker.posture
-    return "cart" if walker.width > 2 * CART_HALF_WIDTH else "walking"
+    return "cart" if walker.pushes_cart else "walking"
 
 
 def _passes(seed: int, world: World, log: PeopleLog) -> list[dict]:
