@@ -1,0 +1,29 @@
+"""safety.people's bookkeeping: held-out worlds and each patrol's own figures (the patrols
+themselves are the benchmark's, too long for a test)."""
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import pytest
+
+from lupin.bench.safety import MAX_WORLDS, TRACED_SEEDS, _each, eval_seeds
+from sim.generate import generate_world
+
+
+@pytest.mark.parametrize("sim_seed", [0, 1, 7])
+def test_the_worlds_scored_are_never_the_ones_the_rules_were_traced_on(sim_seed):
+    seeds = list(eval_seeds(sim_seed))
+    assert len(seeds) == len(set(seeds)) == MAX_WORLDS
+    assert not set(seeds) & set(TRACED_SEEDS)
+    assert list(eval_seeds(sim_seed)) == seeds  # the same run, the same worlds
+
+
+def test_each_patrol_reports_its_own_figures_and_no_clearance_when_it_never_passed_anyone_moving():
+    world = generate_world(2, 2, 101, walkers=1)
+    log = SimpleNamespace(encounters=[{}, {}, {}], moving_contacts=[(1.0, "walker_W1")], clearance=0.1234)
+    row = _each(101, world, {"outcome": "completed", "sim_time_s": 321.5}, log, 3, 120.0)
+    assert row == {"seed": 101, "encounters": 3, "contacts_while_moving": 1, "min_clearance_while_moving_m": 0.123,
+                   "correct": 3, "pots": 4, "outcome": "completed", "robot_time_s": 321.5, "empty_robot_time_s": 120.0}
+    log.clearance = math.inf
+    assert _each(101, world, {"outcome": "completed", "sim_time_s": 1.0}, log, 0, 1.0)["min_clearance_while_moving_m"] is None
