@@ -10,7 +10,8 @@ with ``WALKERS`` people in the mix ``lupin sim generate --walkers`` makes (sim.g
 third do not yield and cross the aisles' mouths, cart pushers, a worker standing and one
 crouching by the east wall), seed after seed,
 until at least ``LUPIN_BENCH_PEOPLE_ENCOUNTERS`` (default ``MIN_ENCOUNTERS``) person encounters
-have been counted, and at least ``MIN_PATROLS`` patrols; every patrol counts. The worlds are
+have been counted, and at least ``MIN_PATROLS`` patrols (a quick look: as few as bring its
+encounters); every patrol counts. The worlds are
 held out (``eval_seeds``): the people rules were traced and mended on world seeds
 ``TRACED_SEEDS``, whose patrols the code's docstrings cite, so a figure on them would score the
 rules on the patrols they were fitted to. An encounter is a walker within 1.0 m of the robot's
@@ -25,7 +26,7 @@ read right, as ``patrol.generated`` judges; goal >= 0.98); and each patrol's rob
 the same world's without walkers. So that a figure can be followed back to what made it, the
 ``CLOSEST`` nearest passes while moving come with their seed, walker, kind, sim time and the
 robot's place, each patrol not all correct with its pots and why, and each patrol's own figures
-(``patrols_each``): a patrol runs 40-50 minutes of robot time among people who pace for ever,
+(``patrols_each``): a patrol runs 15-50 minutes of robot time among people who pace for ever,
 and one mishap early on (a cart that does not yield carrying the robot off, its map then a metre
 out) decides the rest of it, so the spread between patrols is part of the figure.
 """
@@ -164,13 +165,15 @@ def _each(seed: int, world: World, doc: dict, log: PeopleLog, right: int, empty_
             "robot_time_s": doc["sim_time_s"], "empty_robot_time_s": empty_s}
 
 
-def _wanted() -> int:
+def _wanted() -> tuple[int, int]:
+    """Encounters and patrols to count: the figure's, or a quick look's (``ENCOUNTERS_ENV``:
+    that many encounters, from as few patrols as bring them)."""
     text = os.environ.get(ENCOUNTERS_ENV)
     if text is None:
-        return MIN_ENCOUNTERS
+        return MIN_ENCOUNTERS, MIN_PATROLS
     if not text.isdigit() or int(text) < 1:
         raise InputError(f"{ENCOUNTERS_ENV}: must be a whole number of encounters, 1 or more (got {text!r})")
-    return int(text)
+    return int(text), 1
 
 
 def _pct(values: list[float], q: float) -> float | None:
@@ -179,12 +182,12 @@ def _pct(values: list[float], q: float) -> float | None:
 
 @benchmark("safety.people")
 def people(config: LupinConfig) -> Sample:
-    wanted = _wanted()
+    wanted, least_patrols = _wanted()
     met, robot_time, empty_time, failed, passes, each = [], [], [], [], [], []
     contacts = touched = patrols = correct = pots = 0
     least = math.inf
     for seed in eval_seeds(config.sim.seed):
-        if len(met) >= wanted and patrols >= MIN_PATROLS:
+        if len(met) >= wanted and patrols >= least_patrols:
             break
         world = generate_world(ROWS, PER_ROW, seed, bays=BAYS, walkers=WALKERS)
         doc, log = _patrol(world, config)
@@ -206,7 +209,7 @@ def people(config: LupinConfig) -> Sample:
     lost = [e["lost_s"] for e in met]
     extra = [a - b for a, b in zip(robot_time, empty_time)]
     return Sample([], {
-        "encounters": len(met), "encounters_wanted": wanted, "patrols": patrols, "min_patrols": MIN_PATROLS,
+        "encounters": len(met), "encounters_wanted": wanted, "patrols": patrols, "min_patrols": least_patrols,
         "traced_seeds": list(TRACED_SEEDS), "walkers_per_world": WALKERS,
         "not_yielding_per_world": sum(not w.yields for w in generate_world(ROWS, PER_ROW, 1, bays=BAYS, walkers=WALKERS).walkers),
         "contacts_while_moving": contacts, "contacts_standing_or_moving": touched,

@@ -7,7 +7,9 @@ from types import SimpleNamespace
 
 import pytest
 
-from lupin.bench.safety import MAX_WORLDS, TRACED_SEEDS, _each, eval_seeds
+from hw.errors import InputError
+from lupin.bench.safety import (ENCOUNTERS_ENV, MAX_WORLDS, MIN_ENCOUNTERS, MIN_PATROLS, TRACED_SEEDS, _each,
+                                _wanted, eval_seeds)
 from sim.generate import generate_world
 
 
@@ -27,3 +29,13 @@ def test_each_patrol_reports_its_own_figures_and_no_clearance_when_it_never_pass
                    "correct": 3, "pots": 4, "outcome": "completed", "robot_time_s": 321.5, "empty_robot_time_s": 120.0}
     log.clearance = math.inf
     assert _each(101, world, {"outcome": "completed", "sim_time_s": 1.0}, log, 0, 1.0)["min_clearance_while_moving_m"] is None
+
+
+def test_the_figure_needs_three_patrols_and_a_quick_look_only_its_encounters(monkeypatch):
+    monkeypatch.delenv(ENCOUNTERS_ENV, raising=False)
+    assert _wanted() == (MIN_ENCOUNTERS, MIN_PATROLS) and MIN_PATROLS >= 3
+    monkeypatch.setenv(ENCOUNTERS_ENV, "30")
+    assert _wanted() == (30, 1)
+    monkeypatch.setenv(ENCOUNTERS_ENV, "thirty")
+    with pytest.raises(InputError, match=ENCOUNTERS_ENV):
+        _wanted()
