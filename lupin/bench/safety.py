@@ -157,10 +157,15 @@ def eval_seeds(seed: int) -> range:
     return out
 
 
+def _metres(x: float) -> float | None:
+    """A clearance for the JSON: to the millimetre, None for none (inf: no pass while moving)."""
+    return None if math.isinf(x) else round(float(x), 3)
+
+
 def _each(seed: int, world: World, doc: dict, log: PeopleLog, right: int, empty_s: float) -> dict:
-    """One patrol's own figures."""
+    """One patrol's own figures (the run's are summed and taken from these)."""
     return {"seed": seed, "encounters": len(log.encounters), "contacts_while_moving": len(log.moving_contacts),
-            "min_clearance_while_moving_m": None if math.isinf(log.clearance) else round(float(log.clearance), 3),
+            "contacts_standing_or_moving": len(log.contacts.onsets), "min_clearance_while_moving_m": _metres(log.clearance),
             "correct": right, "pots": len(world.pots), "outcome": doc["outcome"],
             "robot_time_s": doc["sim_time_s"], "empty_robot_time_s": empty_s}
 
@@ -183,40 +188,36 @@ def _pct(values: list[float], q: float) -> float | None:
 @benchmark("safety.people")
 def people(config: LupinConfig) -> Sample:
     wanted, least_patrols = _wanted()
-    met, robot_time, empty_time, failed, passes, each = [], [], [], [], [], []
-    contacts = touched = patrols = correct = pots = 0
-    least = math.inf
+    met, failed, passes, each = [], [], [], []
     for seed in eval_seeds(config.sim.seed):
-        if len(met) >= wanted and patrols >= least_patrols:
+        if len(met) >= wanted and len(each) >= least_patrols:
             break
         world = generate_world(ROWS, PER_ROW, seed, bays=BAYS, walkers=WALKERS)
         doc, log = _patrol(world, config)
-        patrols += 1
         met += log.encounters
         passes += _passes(seed, world, log)
-        least = min(least, log.clearance)
-        contacts += len(log.moving_contacts)
-        touched += len(log.contacts.onsets)
         right = correct_pots(world, doc)
-        correct, pots = correct + right, pots + len(world.pots)
         if right < len(world.pots) or doc["outcome"] != "completed":
             failed.append({"seed": seed, "outcome": doc["outcome"], "correct": right, "pots": len(world.pots),
                            "wrong": _wrong(world, doc)})
-        robot_time.append(doc["sim_time_s"])
-        empty_time.append(_patrol(world.model_copy(update={"walkers": []}), config)[0]["sim_time_s"])
-        each.append(_each(seed, world, doc, log, right, empty_time[-1]))
+        empty = _patrol(world.model_copy(update={"walkers": []}), config)[0]["sim_time_s"]
+        each.append(_each(seed, world, doc, log, right, empty))
     nearest = [e["nearest_moving_m"] for e in met if e["nearest_moving_m"] is not None]
     lost = [e["lost_s"] for e in met]
+    robot_time, empty_time = [e["robot_time_s"] for e in each], [e["empty_robot_time_s"] for e in each]
     extra = [a - b for a, b in zip(robot_time, empty_time)]
+    least = [e["min_clearance_while_moving_m"] for e in each if e["min_clearance_while_moving_m"] is not None]
+    pots = sum(e["pots"] for e in each)
     return Sample([], {
-        "encounters": len(met), "encounters_wanted": wanted, "patrols": patrols, "min_patrols": least_patrols,
+        "encounters": len(met), "encounters_wanted": wanted, "patrols": len(each), "min_patrols": least_patrols,
         "traced_seeds": list(TRACED_SEEDS), "walkers_per_world": WALKERS,
         "not_yielding_per_world": sum(not w.yields for w in generate_world(ROWS, PER_ROW, 1, bays=BAYS, walkers=WALKERS).walkers),
-        "contacts_while_moving": contacts, "contacts_standing_or_moving": touched,
-        "min_clearance_while_moving_m": None if math.isinf(least) else round(float(least), 3),
+        "contacts_while_moving": sum(e["contacts_while_moving"] for e in each),
+        "contacts_standing_or_moving": sum(e["contacts_standing_or_moving"] for e in each),
+        "min_clearance_while_moving_m": min(least, default=None),
         "clearance_p5_m": _pct(nearest, 5), "encounters_met_moving": len(nearest),
         "lost_per_encounter_median_s": _pct(lost, 50), "lost_per_encounter_p95_s": _pct(lost, 95),
-        "success_rate": round(correct / pots, 4) if pots else 0.0,
+        "success_rate": round(sum(e["correct"] for e in each) / pots, 4) if pots else 0.0,
         "patrol_time_median_s": _pct(robot_time, 50), "patrol_time_p95_s": _pct(robot_time, 95),
         "empty_patrol_time_median_s": _pct(empty_time, 50),
         "extra_time_per_patrol_median_s": _pct(extra, 50), "extra_time_per_patrol_p95_s": _pct(extra, 95),
