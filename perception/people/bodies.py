@@ -49,15 +49,22 @@ def links(segments: Segments, config: PeopleConfig) -> np.ndarray:
 
 
 def components(near: np.ndarray) -> np.ndarray:
-    """Labels of the connected components of the (symmetric) link matrix ``near`` (vectorised
-    label propagation: each pass gives every node its neighbours' smallest label)."""
-    n = len(near)
-    labels = np.arange(n)
-    while True:
-        spread = np.where(near, labels[None, :], n).min(axis=1)
-        if np.array_equal(spread, labels):
-            return labels
-        labels = spread
+    """Labels of the connected components of the (symmetric) link matrix ``near``: each node
+    labelled by the smallest index in its component. Union-find over the links, the smaller
+    root kept: a scan has a few dozen segments and fewer links, which a loop walks faster than
+    repeated passes over the whole matrix."""
+    root = list(range(len(near)))
+
+    def find(a: int) -> int:
+        while root[a] != a:
+            root[a] = a = root[root[a]]
+        return a
+
+    for a, b in zip(*(k.tolist() for k in np.nonzero(near))):
+        ra, rb = find(a), find(b)
+        if ra != rb:
+            root[max(ra, rb)] = min(ra, rb)
+    return np.array([find(a) for a in range(len(root))], dtype=int)
 
 
 def group(points: np.ndarray, segments: Segments, robot_xy: np.ndarray, config: PeopleConfig) -> Bodies:
@@ -69,8 +76,10 @@ def group(points: np.ndarray, segments: Segments, robot_xy: np.ndarray, config: 
     if not len(segments.count):
         return Bodies(np.zeros((0, 2)), np.zeros(0), np.zeros(0))
     labels = components(links(segments, config))
-    uniq, label = np.unique(labels, return_inverse=True)
-    b = len(uniq)
+    # each component is labelled by its first segment's index: numbered in that order
+    first = labels == np.arange(len(labels))
+    label = (np.cumsum(first) - 1)[labels]
+    b = int(first.sum())
     lo = np.full((b, 2), np.inf)
     hi = np.full((b, 2), -np.inf)
     np.minimum.at(lo, label, segments.lo)

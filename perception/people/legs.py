@@ -44,21 +44,27 @@ def arcs(segments: Segments, fits: Fits, robot_xy: np.ndarray, config: PeopleCon
             & (fits.radius >= lo) & (fits.radius <= hi) & beyond & (segments.width <= config.leg_width))
 
 
-def gaps(points: np.ndarray, segments: Segments) -> np.ndarray:
-    """(S, S) the least distance between an end of one segment and an end of another, m: the
-    ends facing each other across a gap, or meeting at a corner."""
-    ends = np.stack([points[segments.start], points[segments.start + segments.count - 1]], axis=1)  # (S, 2, 2)
+def gaps(points: np.ndarray, segments: Segments, which: np.ndarray) -> np.ndarray:
+    """(K, K) the least distance between an end of one of the segments ``which`` (indices) and
+    an end of another, m: the ends facing each other across a gap, or meeting at a corner."""
+    start = segments.start[which]
+    ends = np.stack([points[start], points[start + segments.count[which] - 1]], axis=1)  # (K, 2, 2)
     d = np.hypot(*(ends[:, None, :, None, :] - ends[None, :, None, :, :]).transpose(4, 0, 1, 2, 3))
     return d.min(axis=(2, 3))
 
 
 def pairs(points: np.ndarray, segments: Segments, fits: Fits, leg: np.ndarray, config: PeopleConfig) -> np.ndarray:
-    """(S, S) bool, symmetric: the leg arcs ``leg`` that make a pair of legs."""
-    c = np.nan_to_num(fits.circle_centre)
+    """(S, S) bool, symmetric: the leg arcs ``leg`` that make a pair of legs (judged among the
+    leg arcs alone: most scans have none or one)."""
+    out = np.zeros((len(leg), len(leg)), bool)
+    k = np.flatnonzero(leg)
+    if len(k) < 2:
+        return out
+    c = fits.circle_centre[k]
     apart = np.hypot(*(c[:, None, :] - c[None, :, :]).transpose(2, 0, 1))
     lo, hi = config.leg_pair_distance
-    both = leg[:, None] & leg[None, :]
-    return both & (apart >= lo) & (apart <= hi) & (gaps(points, segments) >= config.leg_gap)
+    out[np.ix_(k, k)] = (apart >= lo) & (apart <= hi) & (gaps(points, segments, k) >= config.leg_gap)
+    return out
 
 
 @dataclass(frozen=True)
@@ -81,6 +87,10 @@ def find(points: np.ndarray, robot_xy: np.ndarray, explained: np.ndarray, config
     index = np.flatnonzero(keep)
     pts, ranges = pts[keep], ranges[keep]
     segs = split(pts, ranges, config.jump, config.jump_per_metre, index)
+    # only a segment of three returns or more, no wider than a leg, can be a leg arc: the fits
+    # (most of the pass's cost) are of those alone
+    can = (segs.count >= 3) & (segs.width <= config.leg_width)
+    pts, segs = pts[np.repeat(can, segs.count)], segs.subset(can)
     fits = fit(pts, segs)
     leg = arcs(segs, fits, robot_xy, config)
     i, j = np.nonzero(np.triu(pairs(pts, segs, fits, leg, config)))

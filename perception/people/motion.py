@@ -7,9 +7,12 @@ with an unknown velocity (1 m/s standard deviation: anything from standing to a 
 """
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 H = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]])
+EYE2, EYE4 = np.eye(2), np.eye(4)
 UNKNOWN_SPEED_STD = 1.0
 """A new track's velocity standard deviation, m/s."""
 
@@ -25,19 +28,29 @@ def start(z: np.ndarray, measurement_std: float) -> tuple[np.ndarray, np.ndarray
     return x, p
 
 
-def predict(x: np.ndarray, p: np.ndarray, dt: float, accel_std: float) -> tuple[np.ndarray, np.ndarray]:
-    """Every track moved on by ``dt`` seconds."""
+@lru_cache(maxsize=8)
+def transition(dt: float, accel_std: float) -> tuple[np.ndarray, np.ndarray]:
+    """The motion model over ``dt`` and its process noise, (F, Q): the same few each scan (the
+    lidar's 0.1 s), so kept."""
     f = np.eye(4)
     f[0, 2] = f[1, 3] = dt
     g = np.array([[dt * dt / 2, 0.0], [0.0, dt * dt / 2], [dt, 0.0], [0.0, dt]])
     q = accel_std ** 2 * g @ g.T
+    f.setflags(write=False)
+    q.setflags(write=False)
+    return f, q
+
+
+def predict(x: np.ndarray, p: np.ndarray, dt: float, accel_std: float) -> tuple[np.ndarray, np.ndarray]:
+    """Every track moved on by ``dt`` seconds."""
+    f, q = transition(dt, accel_std)
     return x @ f.T, f @ p @ f.T + q
 
 
 def correct(x: np.ndarray, p: np.ndarray, z: np.ndarray, measurement_std: float) -> tuple[np.ndarray, np.ndarray]:
     """Tracks (K of them) updated by their (K, 2) detections."""
-    s = p[:, :2, :2] + measurement_std ** 2 * np.eye(2)
+    s = p[:, :2, :2] + measurement_std ** 2 * EYE2
     k = p[:, :, :2] @ np.linalg.inv(s)
     x = x + np.einsum("kij,kj->ki", k, z - x[:, :2])
-    p = (np.eye(4) - k @ H) @ p
+    p = (EYE4 - k @ H) @ p
     return x, p

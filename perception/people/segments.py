@@ -31,7 +31,7 @@ class Segments:
         """The segments where ``keep`` holds, their returns renumbered contiguously (the
         caller keeps the same returns)."""
         count = self.count[keep]
-        return Segments(np.concatenate([[0], np.cumsum(count)[:-1]]).astype(int), count,
+        return Segments((np.cumsum(count) - count).astype(int), count,
                         self.centre[keep], self.lo[keep], self.hi[keep])
 
     @property
@@ -49,8 +49,8 @@ def unwrap(points: np.ndarray) -> np.ndarray:
     n = len(points)
     if n < 2:
         return np.arange(n)
-    before = np.hypot(*(points - np.roll(points, 1, axis=0)).T)
-    return np.roll(np.arange(n), -int(np.argmax(before)))
+    before = np.hypot(*np.diff(points, axis=0, prepend=points[-1:]).T)
+    return (np.arange(n) + int(np.argmax(before))) % n
 
 
 def split(points: np.ndarray, ranges: np.ndarray, jump: float, jump_per_metre: float,
@@ -70,8 +70,8 @@ def split(points: np.ndarray, ranges: np.ndarray, jump: float, jump_per_metre: f
     breaks = gaps > jump + jump_per_metre * np.minimum(ranges[1:], ranges[:-1])
     if index is not None:
         breaks |= np.diff(index) > 1
-    start = np.concatenate([[0], np.flatnonzero(breaks) + 1])
-    count = np.diff(np.concatenate([start, [n]]))
+    start = np.flatnonzero(np.concatenate(([True], breaks)))
+    count = np.diff(start, append=n)
     centre = np.add.reduceat(points, start, axis=0) / count[:, None]
     lo = np.minimum.reduceat(points, start, axis=0)
     hi = np.maximum.reduceat(points, start, axis=0)

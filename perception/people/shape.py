@@ -16,7 +16,10 @@ algebraic (Kasa) fit x^2 + y^2 + D x + E y + F = 0 on coordinates centred on the
 which makes the 3x3 normal equations split into F and a closed-form 2x2 solve. The Kasa fit
 pulls the radius of a short noisy arc inwards (a 0.10 m pot came out at a leg's 0.06-0.08 in a
 third of the scans), so a few Gauss-Newton steps on the returns' true distances from the circle
-follow (batched 3x3 solves), which brings the pots back near 0.10.
+follow, which brings the pots back near 0.10: their 3x3 normal equations are solved in closed
+form for all segments at once (the radius's row eliminated, a 2x2 left), because the tracker
+runs at the scan rate on the robot's CPU (``perception.people`` cost: issue 28 asks 1 ms a
+scan) and a batched LAPACK solve of a handful of 3x3 systems costs more than the arithmetic.
 """
 from __future__ import annotations
 
@@ -48,6 +51,12 @@ class Fits:
     """(S, 2) the circle's centre (nan where there is none)."""
 
 
+def per(start: np.ndarray, *columns: np.ndarray) -> np.ndarray:
+    """Per-segment sums of each of ``columns`` (arrays over the returns), one row per column:
+    one ``reduceat`` for them all."""
+    return np.add.reduceat(np.array(columns), start, axis=1)
+
+
 def fit(points: np.ndarray, segments: Segments) -> Fits:
     """Line and circle fits of each segment of ``points`` ((N, 2), the segments' returns in
     order, ``segments.count`` of them each)."""
@@ -56,48 +65,48 @@ def fit(points: np.ndarray, segments: Segments) -> Fits:
         empty = np.zeros(0)
         return Fits(empty, empty, empty, np.zeros((0, 2)))
     n = segments.count.astype(float)
+    start = segments.start
     label = np.repeat(np.arange(s), segments.count)
-    mean = np.add.reduceat(points, segments.start, axis=0) / n[:, None]
+    mean = np.add.reduceat(points, start, axis=0) / n[:, None]
     u, v = (points - mean[label]).T
     z = u * u + v * v
-
-    def per(x: np.ndarray) -> np.ndarray:
-        return np.add.reduceat(x, segments.start)
-
-    suu, suv, svv = per(u * u), per(u * v), per(v * v)
+    suu, suv, svv, suz, svz, sz = per(start, u * u, u * v, v * v, u * z, v * z, z)
     a, b, c = suu / n, suv / n, svv / n
     smaller = (a + c) / 2 - np.sqrt(((a - c) / 2) ** 2 + b * b)
     line_rms = np.sqrt(np.maximum(smaller, 0.0))
     # circle: minimise sum (z + D u + E v + F)^2; centred, sum u = sum v = 0, so F = -mean z
     # and [[suu, suv], [suv, svv]] [D, E] = -[suz, svz]
-    suz, svz = per(u * z), per(v * z)
     det = suu * svv - suv * suv
     solid = (det > 1e-12 * np.maximum(suu + svv, 1e-12) ** 2) & (segments.count >= 3)
     safe = np.where(solid, det, 1.0)
     d = (-suz * svv + svz * suv) / safe
     e = (-svz * suu + suz * suv) / safe
-    f = -per(z) / n
-    centre_uv = np.stack([-d / 2, -e / 2], axis=1)
-    radius = np.sqrt(np.maximum(d * d / 4 + e * e / 4 - f, 0.0))
-    eye = np.eye(3)
+    cu, cv = -d / 2, -e / 2
+    radius = np.sqrt(np.maximum(d * d / 4 + e * e / 4 + sz / n, 0.0))
     for _ in range(GEOMETRIC_STEPS):
-        du, dv = u - centre_uv[label, 0], v - centre_uv[label, 1]
+        du, dv = u - cu[label], v - cv[label]
         dist = np.maximum(np.hypot(du, dv), 1e-9)
-        jac = -np.stack([du / dist, dv / dist, np.ones_like(dist)], axis=1)  # d(dist - r)/d(cx, cy, r)
+        ju, jv = -du / dist, -dv / dist  # d(dist - r)/d(cx, cy); d(dist - r)/dr = -1
         res = dist - radius[label]
-        jtj = np.zeros((s, 3, 3))
-        np.add.at(jtj, label, jac[:, :, None] * jac[:, None, :])
-        jtr = np.zeros((s, 3))
-        np.add.at(jtr, label, jac * res[:, None])
-        # a little Levenberg-Marquardt damping: an arc so flat it is nearly a line (a wall's
-        # sliver, a box face) makes the normal equations singular (all its returns pull one way)
-        damp = DAMPING * (np.trace(jtj, axis1=1, axis2=2) + 1e-12)[:, None, None] * eye
-        step = np.linalg.solve(np.where(solid[:, None, None], jtj + damp, eye),
-                               -np.where(solid[:, None], jtr, 0.0)[:, :, None])[:, :, 0]
-        centre_uv = centre_uv + step[:, :2]
-        radius = radius + step[:, 2]
-    solid &= np.isfinite(radius) & np.isfinite(centre_uv).all(axis=1)
-    off = np.hypot(u - centre_uv[label, 0], v - centre_uv[label, 1]) - radius[label]
-    circle_rms = np.sqrt(per(off * off) / n)
+        quu, quv, qvv, qu, qv, ru, rv, r = per(start, ju * ju, ju * jv, jv * jv, ju, jv, ju * res, jv * res, res)
+        # J'J = [[quu, quv, -qu], [quv, qvv, -qv], [-qu, -qv, n]], J'res = [ru, rv, -r], with a
+        # little Levenberg-Marquardt damping on the diagonal: an arc so flat it is nearly a line
+        # (a wall's sliver, a box face) makes the normal equations singular (all its returns
+        # pull one way). The radius is eliminated (its row), and the 2x2 left solved in closed form.
+        damp = DAMPING * (quu + qvv + n + 1e-12)
+        m = n + damp
+        a11, a12, a22 = quu + damp - qu * qu / m, quv - qu * qv / m, qvv + damp - qv * qv / m
+        b1, b2 = -ru + qu * r / m, -rv + qv * r / m
+        det2 = a11 * a22 - a12 * a12
+        ok = solid & (det2 != 0.0)
+        det2 = np.where(ok, det2, 1.0)
+        su = np.where(ok, (b1 * a22 - b2 * a12) / det2, 0.0)
+        sv = np.where(ok, (a11 * b2 - a12 * b1) / det2, 0.0)
+        sr = np.where(ok, (r + qu * su + qv * sv) / m, 0.0)
+        cu, cv, radius = cu + su, cv + sv, radius + sr
+    solid &= np.isfinite(radius) & np.isfinite(cu) & np.isfinite(cv)
+    off = np.hypot(u - cu[label], v - cv[label]) - radius[label]
+    circle_rms = np.sqrt(per(start, off * off)[0] / n)
+    centre_uv = np.stack([cu, cv], axis=1)
     return Fits(line_rms, np.where(solid, radius, np.inf), np.where(solid, circle_rms, np.inf),
                 np.where(solid[:, None], mean + centre_uv, np.nan))

@@ -76,7 +76,9 @@ class PersonTracker:
             self.seen[track] = stamp
             self.shape[track] = np.maximum(self.shape[track], bodies.confidence[body])
             self.radius[track] = bodies.radius[body]
-        fresh = np.setdiff1d(np.arange(len(bodies)), body)
+        left = np.ones(len(bodies), bool)
+        left[body] = False
+        fresh = np.flatnonzero(left)
         if len(fresh):
             x, p = motion.start(bodies.centre[fresh], c.measurement_std)
             self.ids = np.concatenate([self.ids, self._next_id + np.arange(len(fresh))])
@@ -87,8 +89,9 @@ class PersonTracker:
             self.shape = np.concatenate([self.shape, bodies.confidence[fresh]])
             self.radius = np.concatenate([self.radius, bodies.radius[fresh]])
         alive = stamp - self.seen < c.drop_after
-        for name in ("ids", "x", "p", "born", "seen", "shape", "radius"):
-            setattr(self, name, getattr(self, name)[alive])
+        if not alive.all():
+            for name in ("ids", "x", "p", "born", "seen", "shape", "radius"):
+                setattr(self, name, getattr(self, name)[alive])
         self.people = self._report(stamp)
         return self.people
 
@@ -118,12 +121,11 @@ class PersonTracker:
         walked = (speed > c.moving_speed) & (self.seen - self.born >= c.settle_time)
         confidence = np.where(walked, 1.0, self.shape) * (1.0 - missed / c.drop_after)
         still = speed < c.still_speed
-        out = []
-        for k in np.flatnonzero(missed <= c.coast):
-            vx, vy = (0.0, 0.0) if still[k] else (float(self.x[k, 2]), float(self.x[k, 3]))
-            out.append(Person(int(self.ids[k]), float(self.x[k, 0]), float(self.x[k, 1]), vx, vy,
-                              float(self.radius[k]), round(float(confidence[k]), 3)))
-        return tuple(out)
+        shown = missed <= c.coast
+        return tuple(Person(k, x, y, 0.0 if s else vx, 0.0 if s else vy, r, round(p, 3))
+                     for k, (x, y, vx, vy), r, p, s in zip(self.ids[shown].tolist(), self.x[shown].tolist(),
+                                                          self.radius[shown].tolist(), confidence[shown].tolist(),
+                                                          still[shown].tolist()))
 
 
 def odom_points(scan_angles: np.ndarray, scan_ranges: np.ndarray, lidar_pose: tuple[float, float, float]) -> np.ndarray:

@@ -8,6 +8,7 @@ import pytest
 
 from nav.occupancy import OCCUPIED, OccupancyMap
 from perception.people import PeopleConfig, PersonTracker
+from perception.people.bodies import components
 from perception.people.explained import StaticScene, explained_mask
 from tests.perception.people.synthetic import POT_RADIUS, Scene, greenhouse, mapped
 
@@ -140,3 +141,21 @@ def test_explained_mask_uses_the_map_cells_and_the_pots():
     # the cell, 0.1 m beside it, 0.3 m off; a pot's centre, its rim + 0.02; beyond the grid:
     # a pot there still explains
     assert got.tolist() == [True, True, False, True, False, True, True]
+
+
+def test_bodies_are_the_connected_components_of_the_links_labelled_by_their_first_segment():
+    rng = np.random.default_rng(5)
+    for n in (1, 2, 5, 12, 30):
+        for _ in range(20):
+            near = rng.random((n, n)) < rng.uniform(0, 0.3)
+            near = near | near.T
+            labels = components(near)
+            for a in range(n):  # reference: a search from each segment
+                seen, todo = {a}, [a]
+                while todo:
+                    b = todo.pop()
+                    for c in np.flatnonzero(near[b]).tolist():
+                        if c not in seen:
+                            seen.add(c)
+                            todo.append(c)
+                assert labels[a] == min(seen)
