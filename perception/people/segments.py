@@ -8,6 +8,7 @@ leg_tracker's and DR-SPAAM's first step, vectorised: no per-point Python.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -34,9 +35,9 @@ class Segments:
         return Segments((np.cumsum(count) - count).astype(int), count,
                         self.centre[keep], self.lo[keep], self.hi[keep])
 
-    @property
+    @cached_property
     def width(self) -> np.ndarray:
-        """Bounding-box diagonal of each segment, m."""
+        """Bounding-box diagonal of each segment, m (asked by each pass: worked out once)."""
         return np.hypot(*(self.hi - self.lo).T)
 
 
