@@ -61,7 +61,7 @@ from nav.structure import long_components
 from nav.walks import STRIDING
 from perception.people.config import PeopleConfig
 from perception.people.explained import StaticScene
-from perception.people.legs import LegShapes, find as find_legs
+from perception.people.legs import find as find_legs
 from perception.people.tracker import PersonTracker, odom_points
 
 if TYPE_CHECKING:
@@ -231,7 +231,7 @@ class People:
         shown = {p.id: (p.x, p.y) for p in self.confident()}
         raw = self.tracker.update(scan.stamp, points, (odom.x, odom.y, odom.yaw), explained)
         self.tracks = self._carry(scan.stamp, raw, shown)
-        self._count_legs(find_legs(points, np.array([lidar.x, lidar.y]), explained, self.config))
+        self._count_legs(points, np.array([lidar.x, lidar.y]), explained)
         last = self._last
         self._last = {p.id: (p.x, p.y) for p in self.tracks}
         # a track that jumped (its detection hopped to another thing: the next unknown pot of a
@@ -328,14 +328,17 @@ class People:
                     stood[p.id] = (x, y, when)
         self._stood = stood
 
-    def _count_legs(self, shapes: LegShapes) -> None:
+    def _count_legs(self, points: np.ndarray, lidar_xy: np.ndarray, explained: np.ndarray) -> None:
         """Count, per track, the scans on which it was seen as a pair of legs or a leg arc (the
-        nearest track within ``LEGS_NEAR`` of each); tracks gone are forgotten."""
+        shape pass on the scan's ``points`` seen from ``lidar_xy``; the nearest track within
+        ``LEGS_NEAR`` of each shape); tracks gone are forgotten. With no track the pass is not
+        run: its shapes only ever count for a track."""
         ids = [p.id for p in self.tracks]
         self.pairs = {k: self.pairs.get(k, 0) for k in ids}
         self.arcs = {k: self.arcs.get(k, deque(maxlen=LEG_WINDOW)) for k in ids}
         if not ids:
             return
+        shapes = find_legs(points, lidar_xy, explained, self.config)
         at = np.array([(p.x, p.y) for p in self.tracks])
         for k in self._nearest(at, shapes.pairs):
             self.pairs[ids[k]] += 1
