@@ -30,8 +30,9 @@ def start(z: np.ndarray, measurement_std: float) -> tuple[np.ndarray, np.ndarray
 
 @lru_cache(maxsize=8)
 def transition(dt: float, accel_std: float) -> tuple[np.ndarray, np.ndarray]:
-    """The motion model over ``dt`` and its process noise, (F, Q): the same few each scan (the
-    lidar's 0.1 s), so kept."""
+    """The motion model over ``dt`` and its process noise, (F, Q), kept for the next scan with
+    the same ``dt`` (the sim's scans come every 0.1 s to the bit; the robot's stamps jitter, and
+    a miss costs what building them always did). Read-only: they are shared."""
     f = np.eye(4)
     f[0, 2] = f[1, 3] = dt
     g = np.array([[dt * dt / 2, 0.0], [0.0, dt * dt / 2], [dt, 0.0], [0.0, dt]])
