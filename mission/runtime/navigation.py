@@ -56,8 +56,7 @@ def attach_navigation(robot: Robot, localisation: Localisation | None = None) ->
     def static_map(m: OccupancyMap) -> None:
         gcm.set_static(m.occupancy, m.resolution, m.origin_x, m.origin_y)
 
-    localisation = localisation or get_localisation(cfg, odom_pose, scan, static_map, robot.hal.clock.deterministic,
-                                                    people.confident)
+    localisation = localisation or get_localisation(cfg, odom_pose, scan, static_map, robot.hal.clock.deterministic)
     readiness = Readiness({"scans": lambda: scan() is not None, "map": localisation.has_map,
                            "transform": localisation.ready}, cfg.navigator.readiness_timeout)
     nav = Navigator(cfg, sources, localisation, local_costmap(cfg.costmap, walks, lambda: localisation.map_to_odom()), gcm, NavfnPlanner(cfg.planner),
