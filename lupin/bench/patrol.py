@@ -26,9 +26,8 @@ from pathlib import Path
 from lupin.bench import Sample, benchmark
 from lupin.bench.meter import PatrolMeter
 from lupin.bench.moved_judge import judge_report
-from mission.jobs.back_to_back import run_patrols
+from mission.jobs.back_to_back import default_world_patrols
 from mission.jobs.sim_patrol import start_sim_patrol
-from mission.jobs.sim_serve import start_sim_service
 from mission.patrol.mission_file import mission_from_world
 from mission.runtime.config import LupinConfig, with_overrides
 from sim.generate import generate_world
@@ -199,16 +198,9 @@ def back_to_back(config: LupinConfig) -> Sample:
     """Eight patrols of four pots in a row on one sim service (as `lupin serve` runs them, as
     fast as the machine allows): resident memory, threads and SLAM workers after each; memory
     should be flat after the second."""
-    world = load_default_world()
-    mission = mission_from_world(world).model_copy(update={"name": "b2b"})
-    mission = mission.model_copy(update={"pots": mission.pots[:4]}).model_dump(mode="json")
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()
-        service = start_sim_service(world, config, Path(tmp), time.perf_counter)
-        try:
-            after = run_patrols(service, mission, 8)
-        finally:
-            service.close()
+        after = default_world_patrols(config, Path(tmp), 4, 8, time.perf_counter)
         wall = time.perf_counter() - t0
     rss = [round(a.rss_mb, 1) for a in after]
     return Sample([wall * 1000.0 / len(after)], {

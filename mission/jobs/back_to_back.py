@@ -11,9 +11,14 @@ import json
 import threading
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Callable
 
 from mission.jobs.serve import Service
+from mission.jobs.sim_serve import start_sim_service
+from mission.patrol.mission_file import mission_from_world
+from mission.runtime.config import LupinConfig
 from nav.slam.supervisor import SlamSupervisor
+from sim.world import load_default_world
 
 
 @dataclass(frozen=True)
@@ -55,3 +60,17 @@ def run_patrols(service: Service, mission: dict, count: int, limit_s: float = 12
                                rss_mb(), threading.active_count(), alive,
                                int((occupancy.occupancy >= 0).sum()) if occupancy is not None else 0))
     return out
+
+
+def default_world_patrols(config: LupinConfig, runs: Path, pots: int, count: int,
+                          clock: Callable[[], float]) -> list[AfterPatrol]:
+    """The built-in greenhouse's first ``pots`` pots patrolled ``count`` times on one fresh sim
+    service (``clock``: its wall clock), reports under ``runs``; what is held after each."""
+    world = load_default_world()
+    mission = mission_from_world(world)
+    mission = mission.model_copy(update={"name": "b2b", "pots": mission.pots[:pots]}).model_dump(mode="json")
+    service = start_sim_service(world, config, runs, clock)
+    try:
+        return run_patrols(service, mission, count)
+    finally:
+        service.close()

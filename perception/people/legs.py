@@ -34,14 +34,20 @@ from perception.people.segments import Segments, split, unwrap
 from perception.people.shape import Fits, fit
 
 
+def leg_sized(segments: Segments, config: PeopleConfig) -> np.ndarray:
+    """(S,) bool: the segments that could be leg arcs by size alone (three returns or more, no
+    wider than a leg): the only ones ``find`` fits a circle to."""
+    return (segments.count >= 3) & (segments.width <= config.leg_width)
+
+
 def arcs(segments: Segments, fits: Fits, robot_xy: np.ndarray, config: PeopleConfig) -> np.ndarray:
     """(S,) bool: which segments are leg arcs, seen from ``robot_xy``."""
     lo, hi = config.leg_radius
     seen = np.hypot(*(segments.centre - robot_xy).T)
     with np.errstate(invalid="ignore"):
         beyond = np.hypot(*(fits.circle_centre - robot_xy).T) > seen
-    return ((segments.count >= 3) & (fits.circle_rms <= config.arc_rms)
-            & (fits.radius >= lo) & (fits.radius <= hi) & beyond & (segments.width <= config.leg_width))
+    return (leg_sized(segments, config) & (fits.circle_rms <= config.arc_rms)
+            & (fits.radius >= lo) & (fits.radius <= hi) & beyond)
 
 
 def gaps(points: np.ndarray, segments: Segments, which: np.ndarray) -> np.ndarray:
@@ -87,9 +93,7 @@ def find(points: np.ndarray, robot_xy: np.ndarray, explained: np.ndarray, config
     index = np.flatnonzero(keep)
     pts, ranges = pts[keep], ranges[keep]
     segs = split(pts, ranges, config.jump, config.jump_per_metre, index)
-    # only a segment of three returns or more, no wider than a leg, can be a leg arc: the fits
-    # (most of the pass's cost) are of those alone
-    can = (segs.count >= 3) & (segs.width <= config.leg_width)
+    can = leg_sized(segs, config)  # the fits, most of the pass's cost, only where a leg could be
     pts, segs = pts[np.repeat(can, segs.count)], segs.subset(can)
     fits = fit(pts, segs)
     leg = arcs(segs, fits, robot_xy, config)

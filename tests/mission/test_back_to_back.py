@@ -20,20 +20,11 @@ pytestmark = pytest.mark.slow
 
 SERVICE = textwrap.dedent("""
     import dataclasses, json, sys, time
-    from mission.jobs.back_to_back import run_patrols
-    from mission.jobs.sim_serve import start_sim_service
-    from mission.patrol.mission_file import mission_from_world
+    from pathlib import Path
+    from mission.jobs.back_to_back import default_world_patrols
     from mission.runtime.config import LupinConfig
-    from sim.world import load_default_world
 
-    world = load_default_world()
-    m = mission_from_world(world)
-    mission = m.model_copy(update={"name": "b2b", "pots": m.pots[:2]}).model_dump(mode="json")
-    service = start_sim_service(world, LupinConfig(), sys.argv[1], time.perf_counter)
-    try:
-        after = run_patrols(service, mission, 3)
-    finally:
-        service.close()
+    after = default_world_patrols(LupinConfig(), Path(sys.argv[1]), 2, 3, time.perf_counter)
     print(json.dumps([dataclasses.asdict(a) | {"report": str(a.report)} for a in after]))
 """)
 
