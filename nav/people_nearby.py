@@ -111,8 +111,9 @@ class PeopleNearby:
         v = self.layer.step_speed if self.gap(p, odom.x, odom.y) > self.layer.wait_clearance else NEAR_SPEED
         rows = self.walks(people)
         want = self.layer.clearance if clearance is None else clearance
+        turns = np.array(self.people.turns(), dtype=float).reshape(-1, 3)
         step = refuge_heading(here, rows, grid, self.robot_radius, self.layer.clearance, want,
-                              self.layer.lane_time, WALKING, self._refuge)
+                              self.layer.lane_time, WALKING, self._refuge, turns)
         self._refuge = None if step is None else step.refuge
         if step is None or step.heading is None:
             return ZERO_TWIST

@@ -11,7 +11,9 @@ nearest by path whose centre is
 
 * clear of every walker's walk: their straight line ``lane_time`` seconds on *and back* (people
   pace: a cart pusher at the end of a cross aisle turns and comes back down it) by the person
-  layer's keep-out plus ``TOUCH``; and
+  layer's keep-out plus ``TOUCH``, and as clear of the circles people were seen to turn round
+  in (``nav.walks``: a lane ends where its walker turns, and a cart swings round its pusher
+  there, wider than the lane); and
 * at least ``want`` body to body from everyone (the wider ``wait_clearance`` while the robot waits
   for someone, when there is such a place in reach; else the layer's ``clearance`` plus
   ``MARGIN``).
@@ -71,20 +73,22 @@ class Step(NamedTuple):
 
 def refuge_heading(here: np.ndarray, people: np.ndarray, grid: CostGrid, robot_radius: float,
                    clearance: float, want: float, lane_time: float, walking: float,
-                   keep: np.ndarray | None = None) -> Step | None:
+                   keep: np.ndarray | None = None, turns: np.ndarray | None = None) -> Step | None:
     """The step towards the nearest refuge (module docstring) from ``here``, or None: none is
     in reach.
 
     ``people``: (P, 5) rows of x, y, vx, vy, radius in ``grid``'s frame; ``clearance`` the person
     layer's body-to-body keep-out, ``want`` the distance to wait at when there is room for it;
     a person faster than ``walking`` m/s walks a lane; ``keep``: the refuge the last step headed
-    for, kept while it is still one within ``SLACK`` and not ``STICK`` farther than the nearest."""
+    for, kept while it is still one within ``SLACK`` and not ``STICK`` farther than the nearest;
+    ``turns``: (T, 3) rows of x, y, reach of where people turned round (``nav.walks``)."""
     geo = grid.geometry
     h, w = grid.data.shape
     iy, ix = np.mgrid[0:h, 0:w]
     cx, cy = geo.centre_of(ix, iy)
     gap = _gaps(cx, cy, people, robot_radius)
     lane = _lane_gaps(cx, cy, people, robot_radius, lane_time, walking).min(axis=0, initial=np.inf)
+    lane = np.minimum(lane, _gaps(cx, cy, np.empty((0, 3)) if turns is None else turns, robot_radius))
     ahead = _lane_gaps(cx, cy, people, robot_radius, lane_time, walking, back=False)
     (sx,), (sy,) = (np.atleast_1d(a) for a in geo.cell_of(here[0], here[1]))
     if not geo.contains(sx, sy):
@@ -131,9 +135,10 @@ def _cell(point: np.ndarray | None, geo) -> tuple[int, int] | None:
 
 
 def _gaps(cx: np.ndarray, cy: np.ndarray, people: np.ndarray, robot_radius: float) -> np.ndarray:
-    """Body-to-body distance from a robot centred on each cell to the nearest person, m."""
+    """Body-to-body distance from a robot centred on each cell to the nearest of ``people`` (rows
+    of x, y, ..., radius), m."""
     out = np.full(cx.shape, np.inf)
-    for x, y, _, _, r in people:
+    for x, y, *_, r in people:
         out = np.minimum(out, np.hypot(cx - x, cy - y) - r - robot_radius)
     return out
 

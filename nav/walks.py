@@ -40,6 +40,15 @@ PAUSE = 10.0
 HEADING_OVER = 1.0
 #: Below this much walked over ``HEADING_OVER``, their velocity's own heading is read, m.
 HEADING_WALKED = 0.3
+#: A turn is remembered this long after it was seen, s: the sim's pacers are back at each end
+#: of their walk every 10-50 s.
+TURN_KEPT = 120.0
+#: A turn seen within this of one remembered is the same turn, m.
+SAME_TURN = 1.0
+#: How far a turning body reaches round where it stood, in tracked radii: a cart pusher's
+#: tracked circle holds pusher and cart, and the cart swings round the pusher (its far corner
+#: ~0.8 m from them); a person turning on the spot stays in a circle about their own.
+SWEEP = 2.0
 
 
 class Walks:
@@ -50,12 +59,16 @@ class Walks:
         """Each person's last striding velocity (odom) and when, by id, the latest walked last."""
         self._trail: dict[int, deque[tuple[float, float, float]]] = {}
         """Each strider's (when, x, y) over the last ``HEADING_OVER`` s and one before, by id."""
+        self._turns: list[tuple[float, float, float, float]] = []
+        """(x, y, reach, when) of every turn seen within ``TURN_KEPT`` (odom)."""
 
     def __call__(self) -> list[Person]:
         """The people now (``PeopleSource``); each read remembers the striders' walks."""
         people = list(self.people())
         now = self.clock()
         for p in people:
+            if self.paused(p) is not None:
+                self._turned(p, now)
             if math.hypot(p.vx, p.vy) <= STRIDING:
                 self._trail.pop(p.id, None)  # turning or pausing: the next stride's heading starts afresh
                 continue
@@ -70,6 +83,24 @@ class Walks:
             while len(kept) > KEPT:
                 del kept[next(iter(kept))]
         return people
+
+    def _turned(self, person: Person, now: float) -> None:
+        """Remember that ``person`` turns where they pause now (the latest sight of a turn
+        replaces one remembered within ``SAME_TURN``, the wider reach kept)."""
+        reach = SWEEP * person.radius
+        for k, (x, y, r, _) in enumerate(self._turns):
+            if math.hypot(person.x - x, person.y - y) < SAME_TURN:
+                self._turns[k] = (person.x, person.y, max(r, reach), now)
+                return
+        self._turns.append((person.x, person.y, reach, now))
+        del self._turns[:-KEPT]
+
+    def turns(self) -> list[tuple[float, float, float]]:
+        """(x, y, reach) of where people turned round within the last ``TURN_KEPT`` s (odom):
+        the circle a turning body sweeps (module docstring)."""
+        now = self.clock()
+        self._turns = [t for t in self._turns if now - t[3] <= TURN_KEPT]
+        return [t[:3] for t in self._turns]
 
     def _stride(self, person: Person) -> tuple[float, float]:
         """A strider's velocity: their speed now, headed where they walked (module docstring)."""

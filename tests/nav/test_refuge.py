@@ -127,3 +127,24 @@ def test_a_robot_a_little_off_a_carts_line_never_crosses_it_ahead_of_them():
     assert heading(open_floor)[0] > 0.5
     u = heading(walled)
     assert u is None or u[0] > -1e-9
+
+
+def test_a_refuge_keeps_out_of_where_a_cart_turned_round():
+    """safety.people held-out seed 101, 2,225 s: in the north aisle, a grower who had stopped for
+    the robot creeps on towards it; the way out west ends 0.95 m from where a cart pusher who
+    does not yield had turned round at the end of their cross aisle 10 s before (the cart was
+    walking south, away). Knowing the turn, the robot does not wait there: the cart came back
+    and, turning, swept it to 0.12 m."""
+    here = np.array([2.21, 6.67])
+    grid, x, y = _floor(here)
+    grid.data[y >= 7.0] = LETHAL  # the north wall, inflated
+    grid.data[(y <= 6.2) & (x >= 1.5)] = LETHAL  # the last row's pots, inflated; the cross aisle west of them
+    grower = (2.8, 6.5, -0.15, 0.0, 0.27)
+    cart = (1.0, 4.5, 0.0, -0.9, 0.45)  # walking south, away, 2 m off
+
+    def step(turns=None):
+        return _u(refuge_heading(here, np.array([grower, cart], dtype=float), grid, RADIUS, LAYER.clearance,
+                                 LAYER.wait_clearance, LAYER.lane_time, WALKING, None, turns))
+    u = step()
+    assert u is not None and u[0] < -0.5  # unknowing, west, towards the end of the cart's walk
+    assert step(np.array([[1.1, 6.6, 0.9]])) is None  # knowing the turn: no refuge in reach, it stands

@@ -7,7 +7,7 @@ from hw.odometry import Pose2D
 from hw.people import Person
 from nav.config import NavConfig
 from nav.people_nearby import PeopleNearby
-from nav.walks import KEPT, PAUSE, Walks
+from nav.walks import KEPT, PAUSE, SWEEP, TURN_KEPT, Walks
 
 
 def test_a_persons_walk_outlives_their_track_and_a_paused_walker_keeps_it():
@@ -83,3 +83,39 @@ def test_a_striders_heading_is_where_they_walked_not_their_velocity_now():
     clock[0] = 1.2
     walks()
     assert abs(walks.paused(stopped)[0]) < 0.02
+
+
+def test_where_a_walker_turned_round_is_remembered_for_a_while():
+    """A cart pusher walks north to the end of their cross aisle, pauses and turns (the tracked
+    circle holds pusher and cart): the turn is remembered with the reach of a turning cart,
+    seen again it is the same turn, and it is forgotten ``TURN_KEPT`` after it was last seen."""
+    t = [0.0]
+    now = [Person(4, 1.0, 5.5, 0.0, 0.9, 0.45, 0.9)]
+    walks = Walks(lambda: now, lambda: t[0])
+    walks()
+    assert walks.turns() == []  # walking: no turn
+    t[0] = 1.0
+    now[:] = [Person(4, 1.0, 6.5, 0.05, 0.0, 0.45, 0.9)]  # paused at the end
+    walks()
+    assert walks.turns() == [(1.0, 6.5, SWEEP * 0.45)]
+    t[0] = 2.0
+    now[:] = [Person(4, 1.2, 6.6, 0.0, 0.05, 0.5, 0.9)]  # the cart swings: the same turn, wider
+    walks()
+    assert walks.turns() == [(1.2, 6.6, SWEEP * 0.5)]
+    t[0] = 2.0 + TURN_KEPT + 0.1
+    assert walks.turns() == []
+
+
+def test_someone_standing_from_the_start_turns_nowhere():
+    """Only a pause after walking is a turn: a worker who has not walked, or stood longer than a
+    pause, adds none."""
+    t = [0.0]
+    now = [Person(5, 3.0, 3.0, 0.0, 0.0, 0.3, 0.9)]
+    walks = Walks(lambda: now, lambda: t[0])
+    walks()
+    now[:] = [Person(6, 0.0, 0.0, 0.9, 0.0, 0.25, 0.9)]
+    walks()
+    t[0] = PAUSE + 1.0
+    now[:] = [Person(6, 0.5, 0.0, 0.0, 0.0, 0.25, 0.9)]
+    walks()
+    assert walks.turns() == []
