@@ -49,12 +49,17 @@ SAME_TURN = 1.0
 #: tracked circle holds pusher and cart, and the cart swings round the pusher (its far corner
 #: ~0.8 m from them); a person turning on the spot stays in a circle about their own.
 SWEEP = 2.0
+#: Someone pausing nearer the robot than this, body to body, has stopped for it, m: the sim's
+#: walkers who yield stop 0.3 m short, and the tracker's gaps wander a tenth either way.
+YIELDED = 0.5
 
 
 class Walks:
-    def __init__(self, people: PeopleSource, clock: Callable[[], float] = lambda: 0.0):
-        """``clock``: the runtime's seconds (a pause is timed on it)."""
-        self.people, self.clock = people, clock
+    def __init__(self, people: PeopleSource, clock: Callable[[], float] = lambda: 0.0,
+                 gap: Callable[[Person], float] = lambda p: math.inf):
+        """``clock``: the runtime's seconds (a pause is timed on it); ``gap``: body to body from
+        the robot to a person, m (who pauses within ``YIELDED`` has stopped for the robot)."""
+        self.people, self.clock, self.gap = people, clock, gap
         self._last: dict[int, tuple[float, float, float]] = {}
         """Each person's last striding velocity (odom) and when, by id, the latest walked last."""
         self._trail: dict[int, deque[tuple[float, float, float]]] = {}
@@ -67,7 +72,7 @@ class Walks:
         people = list(self.people())
         now = self.clock()
         for p in people:
-            if self.paused(p) is not None:
+            if self.paused(p) is not None and self.gap(p) > YIELDED:
                 self._turned(p, now)
             if math.hypot(p.vx, p.vy) <= STRIDING:
                 self._trail.pop(p.id, None)  # turning or pausing: the next stride's heading starts afresh

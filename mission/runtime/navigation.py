@@ -9,6 +9,8 @@ autonomy goes through the same arbitration and e-stop as a human. The map SLAM h
 """
 from __future__ import annotations
 
+import math
+
 from hw.errors import InputError
 from mission.runtime.people import attach_people
 from mission.runtime.robot import Robot
@@ -41,7 +43,9 @@ def attach_navigation(robot: Robot, localisation: Localisation | None = None) ->
     scan = robot.hal.lidar.latest_scan
     odom_pose = lambda: base.odometry.pose  # noqa: E731
     people = attach_people(robot, lambda: localisation.map_to_odom(), lambda: getattr(localisation, "occupancy", None))
-    walks = Walks(people.confident, robot.scheduler.clock.now)  # the navigation's people, their walks remembered
+    radius = cfg.costmap.robot_radius
+    walks = Walks(people.confident, robot.scheduler.clock.now,  # the navigation's people, their walks remembered
+                  lambda p: math.hypot(p.x - odom_pose().x, p.y - odom_pose().y) - p.radius - radius)
     sources = Sources(
         odom_pose=odom_pose,
         odom_twist=lambda: base.odometry.twist,

@@ -119,3 +119,20 @@ def test_someone_standing_from_the_start_turns_nowhere():
     now[:] = [Person(6, 0.5, 0.0, 0.0, 0.0, 0.25, 0.9)]
     walks()
     assert walks.turns() == []
+
+
+def test_someone_who_stops_for_the_robot_has_not_turned():
+    """A grower who yields stops 0.3 m short of the robot: not a turn (taken for one, it put the
+    robot out of every refuge near them, safety.people seed 1, 119 s); the same pause 1 m off is."""
+    t = [0.0]
+    gap = [0.3]
+    now = [Person(4, 11.0, 2.5, 0.9, 0.0, 0.43, 0.9)]
+    walks = Walks(lambda: now, lambda: t[0], lambda p: gap[0])
+    walks()
+    t[0] = 1.0
+    now[:] = [Person(4, 11.4, 2.5, 0.0, 0.0, 0.43, 0.9)]
+    walks()
+    assert walks.turns() == []
+    gap[0] = 1.0
+    walks()
+    assert walks.turns() == [(11.4, 2.5, SWEEP * 0.43)]
