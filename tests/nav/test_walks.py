@@ -93,6 +93,9 @@ def test_where_a_walker_turned_round_is_remembered_for_a_while():
     now = [Person(4, 1.0, 5.5, 0.0, 0.9, 0.45, 0.9)]
     walks = Walks(lambda: now, lambda: t[0])
     walks()
+    t[0] = 0.5
+    now[:] = [Person(4, 1.0, 5.95, 0.0, 0.9, 0.45, 0.9)]
+    walks()
     assert walks.turns() == []  # walking: no turn
     t[0] = 1.0
     now[:] = [Person(4, 1.0, 6.5, 0.05, 0.0, 0.45, 0.9)]  # paused at the end
@@ -107,12 +110,17 @@ def test_where_a_walker_turned_round_is_remembered_for_a_while():
 
 
 def test_someone_standing_from_the_start_turns_nowhere():
-    """Only a pause after walking is a turn: a worker who has not walked, or stood longer than a
-    pause, adds none."""
+    """Only a pause after a walk is a turn: a worker who has not walked (their track's velocity
+    jittering past a stride a moment), or stood longer than a pause, adds none."""
     t = [0.0]
     now = [Person(5, 3.0, 3.0, 0.0, 0.0, 0.3, 0.9)]
     walks = Walks(lambda: now, lambda: t[0])
     walks()
+    for k, v in enumerate((0.5, 0.45, 0.0)):  # a blip of velocity, a centimetre moved
+        t[0] = 0.1 * (k + 1)
+        now[:] = [Person(5, 3.0 + 0.005 * k, 3.0, v, 0.0, 0.3, 0.9)]
+        walks()
+    assert walks.turns() == []
     now[:] = [Person(6, 0.0, 0.0, 0.9, 0.0, 0.25, 0.9)]
     walks()
     t[0] = PAUSE + 1.0
@@ -128,6 +136,9 @@ def test_someone_who_stops_for_the_robot_has_not_turned():
     gap = [0.3]
     now = [Person(4, 11.0, 2.5, 0.9, 0.0, 0.43, 0.9)]
     walks = Walks(lambda: now, lambda: t[0], lambda p: gap[0])
+    walks()
+    t[0] = 0.5
+    now[:] = [Person(4, 11.4, 2.5, 0.9, 0.0, 0.43, 0.9)]
     walks()
     t[0] = 1.0
     now[:] = [Person(4, 11.4, 2.5, 0.0, 0.0, 0.43, 0.9)]
