@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Callable, Optional, Protocol
 
 from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
+from hw.people import PeopleSource, nobody
 from nav.amcl.localisation import AmclLocalisation
 from nav.map_io import load_map
 from nav.occupancy import OccupancyMap
@@ -65,13 +66,15 @@ class OdometryOnly:
 
 
 def get_localisation(cfg: "NavConfig", odom_pose: Callable[[], Pose2D], scan: Callable[[], Optional[LidarScan]],
-                     on_map: Callable[[OccupancyMap], None], deterministic_clock: bool = True) -> Localisation:
+                     on_map: Callable[[OccupancyMap], None], deterministic_clock: bool = True,
+                     people: PeopleSource = nobody) -> Localisation:
     """What ``nav.slam`` selects (kiss-icp's ``get_<thing>(config)``: callers never branch):
     SLAM in its worker process, or AMCL on the saved map ``nav.map_file`` (loaded and checked
-    here, so a bad map file is reported before the robot moves)."""
+    here, so a bad map file is reported before the robot moves). ``people``: those whose returns
+    SLAM neither registers nor maps (``nav.slam.people_mask``)."""
     mount = Pose2D(*cfg.navigator.lidar_mount)
     if cfg.slam:
-        return SlamSupervisor(cfg.mapping, mount, odom_pose, scan, on_map, deterministic_clock)
+        return SlamSupervisor(cfg.mapping, mount, odom_pose, scan, on_map, deterministic_clock, people)
     saved = load_map(cfg.map_file)
     on_map(saved)
     return AmclLocalisation(cfg.amcl, saved, mount, odom_pose, scan)

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 
 from hw.errors import InputError
+from hw.people import Person
 from mission.runtime.people import attach_people
 from mission.runtime.robot import Robot
 from mission.runtime.scheduler import Scheduler
@@ -24,6 +25,7 @@ from nav.occupancy import OccupancyMap
 from nav.planner import NavfnPlanner
 from nav.readiness import Readiness
 from nav.slam.supervisor import SlamSupervisor
+from nav.slam.people_mask import Pressing
 from nav.walks import Walks
 
 AUTO = "auto"
@@ -43,9 +45,13 @@ def attach_navigation(robot: Robot, localisation: Localisation | None = None) ->
     scan = robot.hal.lidar.latest_scan
     odom_pose = lambda: base.odometry.pose  # noqa: E731
     people = attach_people(robot, lambda: localisation.map_to_odom(), lambda: getattr(localisation, "occupancy", None))
-    radius = cfg.costmap.robot_radius
-    walks = Walks(people.confident, robot.scheduler.clock.now,  # the navigation's people, their walks remembered
-                  lambda p: math.hypot(p.x - odom_pose().x, p.y - odom_pose().y) - p.radius - radius)
+    radius, now = cfg.costmap.robot_radius, robot.scheduler.clock.now
+
+    def gap(p: Person) -> float:
+        """Body to body from the robot to ``p``, m (both odom)."""
+        o = odom_pose()
+        return math.hypot(p.x - o.x, p.y - o.y) - p.radius - radius
+    walks = Walks(people.confident, now, gap)  # the navigation's people, their walks remembered
     sources = Sources(
         odom_pose=odom_pose,
         odom_twist=lambda: base.odometry.twist,
@@ -60,7 +66,8 @@ def attach_navigation(robot: Robot, localisation: Localisation | None = None) ->
     def static_map(m: OccupancyMap) -> None:
         gcm.set_static(m.occupancy, m.resolution, m.origin_x, m.origin_y)
 
-    localisation = localisation or get_localisation(cfg, odom_pose, scan, static_map, robot.hal.clock.deterministic)
+    localisation = localisation or get_localisation(cfg, odom_pose, scan, static_map, robot.hal.clock.deterministic,
+                                                    Pressing(people.confident, gap, now))
     readiness = Readiness({"scans": lambda: scan() is not None, "map": localisation.has_map,
                            "transform": localisation.ready}, cfg.navigator.readiness_timeout)
     nav = Navigator(cfg, sources, localisation, local_costmap(cfg.costmap, walks, lambda: localisation.map_to_odom()), gcm, NavfnPlanner(cfg.planner),

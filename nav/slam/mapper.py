@@ -143,11 +143,15 @@ class Mapper:
         self._solved = self._swapped = False
         return out
 
-    def process(self, angles: np.ndarray, ranges: np.ndarray, odom: Pose2D) -> Pose2D:
-        """Integrate one revolution; returns the robot's map pose."""
+    def process(self, angles: np.ndarray, ranges: np.ndarray, odom: Pose2D,
+                people: np.ndarray | None = None) -> Pose2D:
+        """Integrate one revolution; returns the robot's map pose. ``people``: which returns
+        fall on people (``nav.slam.people_mask``), left out once the scan is judged trustworthy."""
         cfg = self.cfg
         if self.trust.judge(angles, np.isfinite(ranges)) is not None:
             return self._coast(odom)
+        if people is not None:
+            ranges = np.where(people, np.inf, ranges)
         points = scan_points(angles, ranges, self.mount, cfg.min_range, cfg.max_range)
         lo = self.odometry.register(points, odom)
         if self._new_keyframe(lo):

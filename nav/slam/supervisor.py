@@ -42,12 +42,14 @@ from typing import Callable, Optional
 
 from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
+from hw.people import PeopleSource, nobody
 from nav.frames import compose
 from nav.occupancy import OccupancyMap
 from nav.slam import worker
 from nav.slam.checkpoint import Checkpoint
 from nav.slam.config import SlamConfig
 from nav.slam.liveness import Liveness
+from nav.slam.people_mask import on_people
 
 log = logging.getLogger(__name__)
 
@@ -59,13 +61,16 @@ empty has waited that long, so the wait is timed without reading a clock."""
 class SlamSupervisor:
     def __init__(self, cfg: SlamConfig, lidar_mount: Pose2D, odom_pose: Callable[[], Pose2D],
                  scan: Callable[[], Optional[LidarScan]], on_map: Callable[[OccupancyMap], None] = lambda m: None,
-                 deterministic_clock: bool = True):
+                 deterministic_clock: bool = True, people: PeopleSource = nobody):
         self.cfg = cfg
         self.lockstep = deterministic_clock if cfg.lockstep is None else cfg.lockstep
         self.rate = 1.0 / cfg.transform_publish_period
         """Hz the runtime ticks this at: map -> odom's publish rate."""
         self.mount = lidar_mount
         self.odom_pose, self.scan, self.on_map = odom_pose, scan, on_map
+        self.people = people
+        """The people whose returns are neither registered nor mapped (odom): those pressing on
+        the robot (``nav.slam.people_mask``)."""
         self._map_to_odom = Pose2D()
         self.occupancy: OccupancyMap | None = None
         """The latest map the worker handed back."""
@@ -132,7 +137,8 @@ class SlamSupervisor:
         odom = self.odom_pose()
         start = compose(self._map_to_odom, odom)
         try:
-            self._conn.send(worker.Scan(scan.stamp, scan.angles, scan.ranges, odom, start, want_map, self._whole))
+            self._conn.send(worker.Scan(scan.stamp, scan.angles, scan.ranges, odom, start, want_map, self._whole,
+                                        on_people(scan.angles, scan.ranges, compose(odom, self.mount), self.people())))
         except (BrokenPipeError, OSError):
             self._lost(now, "its pipe broke")
             return

@@ -52,6 +52,8 @@ class Scan:
     want_map: bool
     whole: bool = False
     """A map to keep (a patrol's end, a map save): any pending re-render is drawn first."""
+    people: np.ndarray | None = None
+    """Which returns fall on people (``nav.slam.people_mask``): neither registered nor drawn."""
 
 
 @dataclass(frozen=True)
@@ -119,7 +121,7 @@ def serve(conn: Connection, config: dict, mount: tuple[float, float, float]) -> 
                 mapper, checkpoint = Mapper.restored(cfg, Pose2D(*mount), checkpoint, msg.start), None
                 restore = time.perf_counter() - t0
         solves = mapper.solves
-        pose = mapper.process(msg.angles, msg.ranges, msg.odom)
+        pose = mapper.process(msg.angles, msg.ranges, msg.odom, msg.people)
         settle = 0.0
         if msg.whole:
             t1 = time.perf_counter()
