@@ -24,8 +24,8 @@ from nav.navigator import Navigator, Sources
 from nav.occupancy import OccupancyMap
 from nav.planner import NavfnPlanner
 from nav.readiness import Readiness
-from nav.slam.supervisor import SlamSupervisor
 from nav.slam.people_mask import Pressing
+from nav.slam.supervisor import SlamSupervisor
 from nav.walks import Walks
 
 AUTO = "auto"
@@ -51,6 +51,7 @@ def attach_navigation(robot: Robot, localisation: Localisation | None = None) ->
         """Body to body from the robot to ``p``, m (both odom)."""
         o = odom_pose()
         return math.hypot(p.x - o.x, p.y - o.y) - p.radius - radius
+
     walks = Walks(people.confident, now, gap)  # the navigation's people, their walks remembered
     sources = Sources(
         odom_pose=odom_pose,

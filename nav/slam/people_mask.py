@@ -18,7 +18,8 @@ the tracker was wrong: on safety.people's seed 101 a false person beside the rob
 soon. Whether the scan can be trusted at all is still judged on every return
 (``hw.scan_trust``): a person close by is something seen, not a blinded lidar. The people are
 those the distance rules act on (``mission.runtime.people.People.confident``) that press on the
-robot, as the tracker last saw them: the costmaps, the people guard and the collision monitor read the whole scan.
+robot, as the tracker last saw them: the costmaps, the people guard and the collision monitor
+read the whole scan.
 """
 from __future__ import annotations
 
@@ -28,6 +29,18 @@ import numpy as np
 
 from hw.odometry import Pose2D
 from hw.people import PeopleSource, Person
+
+PRESS = 0.1
+"""A person this near the robot's body (the tracker's circle, body to body), m, may be pushing it."""
+PRESS_FOR = 8.0
+"""How long one person's returns are left out at most while they keep pressing, s: seed 2's shove
+lasted 4 s. Out of contact longer than this, a new press starts a new while."""
+KEPT = 64
+"""People remembered pressing, the latest last."""
+
+MARGIN = 0.15
+"""Past a person's radius, returns this near them are theirs too, m: the tracker's people are a
+scan old when SLAM takes the next one, and a brisk walker covers 0.1 m in that time."""
 
 
 class Pressing:
@@ -53,18 +66,6 @@ class Pressing:
         while len(self._press) > KEPT:
             del self._press[next(iter(self._press))]
         return out
-
-PRESS = 0.1
-"""A person this near the robot's body (the tracker's circle, body to body), m, may be pushing it."""
-PRESS_FOR = 8.0
-"""How long one person's returns are left out at most while they keep pressing, s: seed 2's shove
-lasted 4 s. Out of contact longer than this, a new press starts a new while."""
-KEPT = 64
-"""People remembered pressing, the latest last."""
-
-MARGIN = 0.15
-"""Past a person's radius, returns this near them are theirs too, m: the tracker's people are a
-scan old when SLAM takes the next one, and a brisk walker covers 0.1 m in that time."""
 
 
 def on_people(angles: np.ndarray, ranges: np.ndarray, lidar: Pose2D, people: Sequence[Person]) -> np.ndarray | None:
