@@ -8,6 +8,7 @@ costmap and the base's own motion are (a SLAM correction never makes a person ju
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Callable, Sequence
 
@@ -30,6 +31,11 @@ class Person:
     confidence: float
     """0..1: how sure the tracker is that this is a person (an unknown thing near the path
     that is neither in the map nor a known pot starts as a person until shown otherwise)."""
+
+    def gap(self, x: float, y: float, radius: float) -> float:
+        """Body to body from a round body of ``radius`` centred at (``x``, ``y``), odom, m: what
+        every distance rule for people measures."""
+        return math.hypot(self.x - x, self.y - y) - self.radius - radius
 
 
 PeopleSource = Callable[[], Sequence[Person]]

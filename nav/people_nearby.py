@@ -53,7 +53,7 @@ class PeopleNearby:
 
     def gap(self, person: Person, x: float, y: float) -> float:
         """Body to body from a robot centred at (``x``, ``y``), odom, to ``person``, m."""
-        return math.hypot(x - person.x, y - person.y) - person.radius - self.robot_radius
+        return person.gap(x, y, self.robot_radius)
 
     def keep_out(self, person: Person, clearance: float | None = None) -> float:
         """Centre to centre, m: ``clearance`` (the layer's when None) body to body."""

@@ -60,14 +60,13 @@ class Walks:
         """``clock``: the runtime's seconds (a pause is timed on it); ``gap``: body to body from
         the robot to a person, m (who pauses within ``YIELDED`` has stopped for the robot)."""
         self.people, self.clock, self.gap = people, clock, gap
-        self._last: dict[int, tuple[float, float, float]] = {}
-        """Each person's last striding velocity (odom) and when, by id, the latest walked last."""
+        self._last: dict[int, tuple[float, float, float, bool]] = {}
+        """Each person's last striding velocity (odom), when, and whether they have been seen to
+        walk ``HEADING_WALKED`` within ``HEADING_OVER`` (only they turn: a standing worker's track,
+        its velocity jittering past ``STRIDING`` a moment, turned in a 1.25 m circle round them,
+        safety.people seed 1), by id, the latest walked last."""
         self._trail: dict[int, deque[tuple[float, float, float]]] = {}
         """Each strider's (when, x, y) over the last ``HEADING_OVER`` s and one before, by id."""
-        self._walked: dict[int, None] = {}
-        """Ids seen to walk ``HEADING_WALKED`` within ``HEADING_OVER``, the latest last: only they
-        turn (a standing worker's track, its velocity jittering past ``STRIDING`` a moment, turned
-        in a 1.25 m circle round them, safety.people seed 1)."""
         self._turns: list[tuple[float, float, float, float]] = []
         """(x, y, reach, when) of every turn seen within ``TURN_KEPT`` (odom)."""
 
@@ -76,7 +75,7 @@ class Walks:
         people = list(self.people())
         now = self.clock()
         for p in people:
-            if self.paused(p) is not None and p.id in self._walked and self.gap(p) > YIELDED:
+            if self.paused(p) is not None and self._last[p.id][3] and self.gap(p) > YIELDED:
                 self._turned(p, now)
             if math.hypot(p.vx, p.vy) <= STRIDING:
                 self._trail.pop(p.id, None)  # turning or pausing: the next stride's heading starts afresh
@@ -86,12 +85,10 @@ class Walks:
                 trail.append((now, p.x, p.y))
             while len(trail) > 2 and trail[1][0] <= now - HEADING_OVER:
                 trail.popleft()
-            self._last.pop(p.id, None)
-            self._last[p.id] = (*self._stride(p), now)
-            if math.hypot(p.x - trail[0][1], p.y - trail[0][2]) >= HEADING_WALKED:
-                self._walked.pop(p.id, None)
-                self._walked[p.id] = None
-        for kept in (self._last, self._trail, self._walked):
+            walked = self._last.pop(p.id, (0.0, 0.0, 0.0, False))[3] \
+                or math.hypot(p.x - trail[0][1], p.y - trail[0][2]) >= HEADING_WALKED
+            self._last[p.id] = (*self._stride(p), now, walked)
+        for kept in (self._last, self._trail):
             while len(kept) > KEPT:
                 del kept[next(iter(kept))]
         return people

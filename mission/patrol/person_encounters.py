@@ -14,7 +14,6 @@ tracker) the list stays empty.
 """
 from __future__ import annotations
 
-import math
 from typing import Callable
 
 from hw.collision_monitor import NONE, Verdict
@@ -43,7 +42,7 @@ class PersonEncounters:
         p = self.pose()
         v = self.verdict()
         for person in self.people():
-            gap = math.hypot(person.x - p.x, person.y - p.y) - person.radius - self.radius
+            gap = person.gap(p.x, p.y, self.radius)
             if gap >= NEAR:
                 continue
             if person.id not in self._open:

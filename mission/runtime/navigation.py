@@ -9,8 +9,6 @@ autonomy goes through the same arbitration and e-stop as a human. The map SLAM h
 """
 from __future__ import annotations
 
-import math
-
 from hw.errors import InputError
 from hw.people import Person
 from mission.runtime.people import attach_people
@@ -50,7 +48,7 @@ def attach_navigation(robot: Robot, localisation: Localisation | None = None) ->
     def gap(p: Person) -> float:
         """Body to body from the robot to ``p``, m (both odom)."""
         o = odom_pose()
-        return math.hypot(p.x - o.x, p.y - o.y) - p.radius - radius
+        return p.gap(o.x, o.y, radius)
 
     walks = Walks(people.confident, now, gap)  # the navigation's people, their walks remembered
     sources = Sources(
