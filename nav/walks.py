@@ -75,7 +75,7 @@ class Walks:
         people = list(self.people())
         now = self.clock()
         for p in people:
-            if self.paused(p) is not None and self._last[p.id][3] and self.gap(p) > YIELDED:
+            if self.paused(p) is not None and self.gap(p) > YIELDED:
                 self._turned(p, now)
             if math.hypot(p.vx, p.vy) <= STRIDING:
                 self._trail.pop(p.id, None)  # turning or pausing: the next stride's heading starts afresh
@@ -124,19 +124,23 @@ class Walks:
         return speed * dx / walked, speed * dy / walked
 
     def last(self, person: Person) -> tuple[float, float]:
-        """``person``'s velocity, or, slower than a stride, that of their last walk (odom)."""
+        """``person``'s velocity, or, slower than a stride, that of their last walk (odom), if
+        they were seen to walk (``paused``)."""
         if math.hypot(person.vx, person.vy) > STRIDING:
             return self._stride(person)
-        if person.id not in self._last:
-            return person.vx, person.vy
-        return self._last[person.id][:2]
+        walk = self._last.get(person.id)
+        return (person.vx, person.vy) if walk is None or not walk[3] else walk[:2]
 
     def paused(self, person: Person) -> tuple[float, float] | None:
         """The velocity of a paused person's last walk (odom), while the pause is short enough
         to turn round in (``PAUSE``); None for someone walking now, standing, or who has not
-        walked."""
+        been seen to walk (``HEADING_WALKED``): a crouching worker's track jittering past
+        ``STRIDING`` for a moment is no walk (safety.people seed 105, 1,387 s: read as one, it
+        laid a lane 4 m back along the side aisle beside the robot, its only refuge from a
+        cart's cross aisle, and the robot stood in the cart's way until it walked into it)."""
         walk = self._last.get(person.id)
-        if math.hypot(person.vx, person.vy) > WALKING or walk is None or self.clock() - walk[2] > PAUSE:
+        if math.hypot(person.vx, person.vy) > WALKING or walk is None or not walk[3] \
+                or self.clock() - walk[2] > PAUSE:
             return None
         return walk[:2]
 

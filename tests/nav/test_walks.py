@@ -18,6 +18,8 @@ def test_a_persons_walk_outlives_their_track_and_a_paused_walker_keeps_it():
     now: list[Person] = [Person(7, 2.0, 3.0, 0.0, -1.0, 0.25, 0.9)]
     walks = Walks(lambda: now)
     walks()
+    now[:] = [Person(7, 2.0, 2.6, 0.0, -1.0, 0.25, 0.9)]  # 0.4 m on: a walk
+    walks()
     now[:] = []  # lost for a few scans
     walks()
     now[:] = [Person(7, 2.0, 2.0, 0.03, 0.0, 0.25, 0.9)]  # back, standing at the end of their walk
@@ -32,9 +34,13 @@ def test_only_the_latest_walks_are_kept():
     now = [Person(7, 2.0, 3.0, 0.0, -1.0, 0.25, 0.9)]
     walks = Walks(lambda: now)
     walks()
-    now[:] = [Person(k, 0.0, 0.0, 1.0, 0.0, 0.25, 0.9) for k in range(100, 100 + 2 * KEPT)]
+    now[:] = [Person(7, 2.0, 2.5, 0.0, -1.0, 0.25, 0.9)]
     walks()
     paused = Person(7, 2.0, 2.0, 0.0, 0.0, 0.25, 0.9)
+    assert walks.paused(paused) == (0.0, -1.0)
+    for x in (0.0, 0.5):
+        now[:] = [Person(k, x, 0.0, 1.0, 0.0, 0.25, 0.9) for k in range(100, 100 + 2 * KEPT)]
+        walks()
     assert walks.paused(paused) is None and walks.paused(Person(100 + 2 * KEPT - 1, 0, 0, 0, 0, 0.25, 0.9)) == (1.0, 0.0)
 
 
@@ -42,6 +48,8 @@ def test_the_refuge_keeps_out_of_a_paused_walkers_walk():
     """``PeopleNearby.walks`` gives the refuge a paused person's remembered walk as theirs."""
     now = [Person(7, 2.0, 3.0, 0.0, -1.0, 0.25, 0.9)]
     nearby = PeopleNearby(NavConfig(), lambda: now, Pose2D)
+    nearby.counted()
+    now[:] = [Person(7, 2.0, 2.5, 0.0, -1.0, 0.25, 0.9)]
     nearby.counted()
     now[:] = [Person(7, 2.0, 2.0, 0.0, 0.0, 0.25, 0.9)]
     ((x, y, vx, vy, r),) = nearby.walks(nearby.counted())
@@ -55,6 +63,9 @@ def test_a_pause_longer_than_a_turn_is_someone_standing():
     t = [0.0]
     now = [Person(7, 2.0, 3.0, 0.0, 0.8, 0.25, 0.9)]
     walks = Walks(lambda: now, lambda: t[0])
+    walks()
+    t[0] = 0.4
+    now[:] = [Person(7, 2.0, 3.32, 0.0, 0.8, 0.25, 0.9)]
     walks()
     now[:] = [Person(7, 2.0, 3.4, 0.0, 0.0, 0.25, 0.9)]
     t[0] = PAUSE - 0.5
@@ -110,8 +121,10 @@ def test_where_a_walker_turned_round_is_remembered_for_a_while():
 
 
 def test_someone_standing_from_the_start_turns_nowhere():
-    """Only a pause after a walk is a turn: a worker who has not walked (their track's velocity
-    jittering past a stride a moment), or stood longer than a pause, adds none."""
+    """Only a pause after a walk is a turn or keeps a walk: a worker who has not walked (their
+    track's velocity jittering past a stride a moment: safety.people seed 105's crouching worker,
+    whose blip laid a lane 4 m along the side aisle beside them), or stood longer than a pause,
+    adds none."""
     t = [0.0]
     now = [Person(5, 3.0, 3.0, 0.0, 0.0, 0.3, 0.9)]
     walks = Walks(lambda: now, lambda: t[0])
@@ -121,6 +134,8 @@ def test_someone_standing_from_the_start_turns_nowhere():
         now[:] = [Person(5, 3.0 + 0.005 * k, 3.0, v, 0.0, 0.3, 0.9)]
         walks()
     assert walks.turns() == []
+    crouching = now[0]  # nor is the blip a walk: no lane along it
+    assert walks.paused(crouching) is None and walks.last(crouching) == (0.0, 0.0)
     now[:] = [Person(6, 0.0, 0.0, 0.9, 0.0, 0.25, 0.9)]
     walks()
     t[0] = PAUSE + 1.0
