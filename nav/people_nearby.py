@@ -22,7 +22,7 @@ from hw.people import Person, PeopleSource
 from nav.config import NavConfig
 from nav.costmap.grid import CostGrid
 from nav.frames import transform_points
-from nav.refuge import TOUCH, in_a_walk, refuge_heading  # TOUCH: also ``in_lane``'s margin within ``wait_clearance``
+from nav.refuge import TOUCH, refuge_heading  # TOUCH: also ``in_lane``'s margin within ``wait_clearance``
 from nav.walks import WALKING, walks_of
 
 #: Speed of a step out of a person's way within ``wait_clearance`` (1 m) of them, m/s: issue
@@ -94,30 +94,24 @@ class PeopleNearby:
 
     def evade(self, odom: Pose2D, grid: CostGrid, clearance: float | None = None,
               reach: float | None = None) -> Twist:
-        """A step towards the nearest refuge (``nav.refuge``), free on ``grid`` (the local
-        costmap without people), while the robot (at ``odom``) is in someone's keep-out or
-        stands in a walk (a walker's lane, a paused walker's last walk included, or a circle
-        people turn in); zero when it is in neither or no refuge is in reach. A wait is no
-        place to stand in a walk: safety.people seed 105, 1,386 s: waiting for a grower at its
-        goal 5 m off, the robot stood still in a cross aisle a cart paces, the cart paused at
-        its far end; 3 s after it set off back, the cart walked into it. ``clearance``: the
-        body-to-body distance to keep (the layer's when None; the wider ``wait_clearance``
-        while the robot waits for someone); ``reach``: how many seconds of a walker's walk the
-        keep-out runs along (``predict_time`` when None, the ``lane_time`` to step out of a
-        lane). The step is at ``NEAR_SPEED`` within ``wait_clearance`` of anyone."""
+        """A step out of the way of the nearest person whose keep-out the robot (at ``odom``) is
+        in, free on ``grid`` (the local costmap without people); zero with nobody that close or
+        no free direction. ``clearance``: the body-to-body distance to keep (the layer's when
+        None; the wider ``wait_clearance`` while the robot waits for someone); ``reach``: how
+        many seconds of a walker's walk the keep-out runs along (``predict_time`` when None, the
+        ``lane_time`` to step out of a lane)."""
         people = self.counted()
         here = np.array([odom.x, odom.y])
-        close = people and any(to_segment(here, a, b) < self.keep_out(p, clearance)
-                               for p, a, b in zip(people, *self._segments(people, reach)))
-        rows = self.walks(people) if people else np.empty((0, 5))
-        turns = np.array(self.people.turns(), dtype=float).reshape(-1, 3)
-        if not close and not in_a_walk(here, rows, turns, self.robot_radius, self.layer.clearance,
-                                       self.layer.lane_time, WALKING):
+        close = [(p, d) for p, a, b in zip(people, *self._segments(people, reach))
+                 if (d := to_segment(here, a, b)) < self.keep_out(p, clearance)] if people else []
+        if not close:
             self._refuge = None
             return ZERO_TWIST
-        near = min((self.gap(p, odom.x, odom.y) for p in people), default=np.inf)
-        v = self.layer.step_speed if near > self.layer.wait_clearance else NEAR_SPEED
+        p = min(close, key=lambda c: c[1])[0]
+        v = self.layer.step_speed if self.gap(p, odom.x, odom.y) > self.layer.wait_clearance else NEAR_SPEED
+        rows = self.walks(people)
         want = self.layer.clearance if clearance is None else clearance
+        turns = np.array(self.people.turns(), dtype=float).reshape(-1, 3)
         step = refuge_heading(here, rows, grid, self.robot_radius, self.layer.clearance, want,
                               self.layer.lane_time, WALKING, self._refuge, turns)
         self._refuge = None if step is None else step.refuge

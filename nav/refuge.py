@@ -87,7 +87,8 @@ def refuge_heading(here: np.ndarray, people: np.ndarray, grid: CostGrid, robot_r
     iy, ix = np.mgrid[0:h, 0:w]
     cx, cy = geo.centre_of(ix, iy)
     gap = _gaps(cx, cy, people, robot_radius)
-    lane = _walk_gaps(cx, cy, people, np.empty((0, 3)) if turns is None else turns, robot_radius, lane_time, walking)
+    lane = _lane_gaps(cx, cy, people, robot_radius, lane_time, walking).min(axis=0, initial=np.inf)
+    lane = np.minimum(lane, _gaps(cx, cy, np.empty((0, 3)) if turns is None else turns, robot_radius))
     ahead = _lane_gaps(cx, cy, people, robot_radius, lane_time, walking, back=False)
     (sx,), (sy,) = (np.atleast_1d(a) for a in geo.cell_of(here[0], here[1]))
     if not geo.contains(sx, sy):
@@ -117,22 +118,6 @@ def refuge_heading(here: np.ndarray, people: np.ndarray, grid: CostGrid, robot_r
         u = _first_stretch(framed, cost, w, k[0] * w + k[1], (sx, sy), geo)
         return None if u is None else Step(u, refuge)
     return None
-
-
-def in_a_walk(here: np.ndarray, people: np.ndarray, turns: np.ndarray, robot_radius: float, clearance: float,
-              lane_time: float, walking: float) -> bool:
-    """Does a robot at ``here`` stand in a walker's lane or a turn circle, as ``refuge_heading``
-    reads them (it would step off that spot)? Arguments as there."""
-    x, y = np.array([here[0]]), np.array([here[1]])
-    return bool(_walk_gaps(x, y, people, turns, robot_radius, lane_time, walking)[0] < clearance + TOUCH)
-
-
-def _walk_gaps(cx: np.ndarray, cy: np.ndarray, people: np.ndarray, turns: np.ndarray, robot_radius: float,
-               lane_time: float, walking: float) -> np.ndarray:
-    """Body to body from a robot on each cell to the nearest walk, m: walkers' lanes and the
-    circles people turn in."""
-    lane = _lane_gaps(cx, cy, people, robot_radius, lane_time, walking).min(axis=0, initial=np.inf)
-    return np.minimum(lane, _gaps(cx, cy, turns, robot_radius))
 
 
 def _refuges(lane: np.ndarray, gap: np.ndarray, pot: np.ndarray, off_lanes: float, need: float) -> np.ndarray:

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from hw.interfaces import ZERO_TWIST
 from hw.odometry import Pose2D
 from hw.people import Person
 from nav.config import NavConfig
@@ -38,23 +37,3 @@ def test_with_room_on_its_own_side_it_steps_there():
     step = _step(walker, CostGrid.filled(120, 120, 0.05, 0.0, 0.0))
     assert step[0] > 0.2 and abs(step[1]) < 0.1 * step[0]  # east, away from their way
 
-
-
-def test_a_wait_does_not_stand_in_the_walk_of_someone_paused_at_its_far_end():
-    """safety.people seed 105, 1,386 s: waiting (for a grower at its goal, 5 m off) in a cross
-    aisle a cart pusher paces, the cart paused at the far end 3 m south: the robot steps out of
-    the cart's walk rather than wait in it; for a worker who never walked there is no walk to
-    step out of."""
-    now = [Person(1, 3.0, 0.0, 0.0, 1.1, 0.45, 0.9)]
-    nearby = PeopleNearby(CFG, lambda: now, Pose2D)
-    nearby.counted()
-    now[:] = [Person(1, 3.0, 0.5, 0.0, 1.1, 0.45, 0.9)]  # walking north up x 3
-    nearby.counted()
-    now[:] = [Person(1, 3.0, 0.5, 0.0, 0.0, 0.45, 0.9)]  # paused at the end of their walk
-    robot, floor = Pose2D(3.1, 3.5, 0.0), CostGrid.filled(120, 120, 0.05, 0.0, 0.0)
-    wait = CFG.costmap.global_costmap.people.wait_clearance
-    assert nearby.gap(now[0], robot.x, robot.y) > wait  # nobody near: only the walk says step
-    twist = nearby.evade(robot, floor, wait)
-    assert twist.vx > 0.1 and abs(twist.vy) < 0.5 * twist.vx  # east, off their line
-    worker = PeopleNearby(CFG, lambda: [Person(2, 3.0, 0.5, 0.0, 0.0, 0.45, 0.9)], Pose2D)
-    assert worker.evade(robot, floor, wait) == ZERO_TWIST
