@@ -23,7 +23,7 @@ from nav.config import NavConfig
 from nav.costmap.grid import CostGrid
 from nav.frames import transform_points
 from nav.refuge import TOUCH, refuge_heading  # TOUCH: also ``in_lane``'s margin within ``wait_clearance``
-from nav.walks import WALKING, turning, walks_of
+from nav.walks import WALKING, walks_of
 
 #: Speed of a step out of a person's way within ``wait_clearance`` (1 m) of them, m/s: issue
 #: 28's most within 1.0 m of a person (farther off, the layer's faster ``step_speed``).
@@ -60,12 +60,10 @@ class PeopleNearby:
         return person.radius + (self.layer.clearance if clearance is None else clearance) + self.robot_radius
 
     def in_map(self) -> list[tuple[np.ndarray, np.ndarray, float]]:
-        """(where, where in ``predict_time``, keep_out) of every person counted, and of every
-        turn circle someone is coming to sweep (``Walks.coming``), map frame."""
+        """(where, where in ``predict_time``, keep_out) of every person counted, map frame."""
         people = self.counted()
         if not people:
             return []
-        people += turning(self.people.coming(people))
         now, then = self._segments(people)
         m2o = self.map_to_odom()
         now, then = transform_points(m2o, now), transform_points(m2o, then)
@@ -106,13 +104,11 @@ class PeopleNearby:
         here = np.array([odom.x, odom.y])
         close = [(p, d) for p, a, b in zip(people, *self._segments(people, reach))
                  if (d := to_segment(here, a, b)) < self.keep_out(p, clearance)] if people else []
-        swept = people and any(self.gap(c, odom.x, odom.y) < self.layer.clearance
-                               for c in turning(self.people.coming(people)))
-        if not close and not swept:
+        if not close:
             self._refuge = None
             return ZERO_TWIST
-        near = min(self.gap(p, odom.x, odom.y) for p in people)
-        v = self.layer.step_speed if near > self.layer.wait_clearance else NEAR_SPEED
+        p = min(close, key=lambda c: c[1])[0]
+        v = self.layer.step_speed if self.gap(p, odom.x, odom.y) > self.layer.wait_clearance else NEAR_SPEED
         rows = self.walks(people)
         want = self.layer.clearance if clearance is None else clearance
         turns = np.array(self.people.turns(), dtype=float).reshape(-1, 3)

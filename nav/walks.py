@@ -49,9 +49,6 @@ SAME_TURN = 1.0
 #: tracked circle holds pusher and cart, and the cart swings round the pusher (its far corner
 #: ~0.8 m from them); a person turning on the spot stays in a circle about their own.
 SWEEP = 2.0
-#: A turn someone walking towards it reaches within this long is coming (``coming``), s: the
-#: person layer's ``lane_time``, the walk ahead the robot steps out of.
-COMING = 4.0
 #: Someone pausing nearer the robot than this, body to body, has stopped for it, m: the sim's
 #: walkers who yield stop 0.3 m short, and the tracker's gaps wander a tenth either way.
 YIELDED = 0.5
@@ -114,31 +111,6 @@ class Walks:
         self._turns = [t for t in self._turns if now - t[3] <= TURN_KEPT]
         return [t[:3] for t in self._turns]
 
-    def coming(self, people: list[Person]) -> list[tuple[float, float, float]]:
-        """(x, y, reach) of each remembered turn (odom) one of ``people`` is turning in now (paused
-        in it after a walk) or walking at, to reach it within ``COMING`` s: the circle a cart is
-        about to sweep. The robot keeps out of it as out of a person (``nav.costmap.people``,
-        ``nav.people_nearby``) and so waits outside it, not in it: safety.people seed 105, 1,391
-        s: a cart pusher who does not yield turns at the end of their cross aisle, the middle of
-        the north aisle, the robot's only way west; it waited for them there, in the circle they
-        turn in, and the cart, turning, carried it 0.9 m. A turn whose walker walks away or
-        stands at the far end is no keep-out: the robot crosses it then."""
-        out = []
-        for x, y, reach in self.turns():
-            for p in people:
-                dx, dy = x - p.x, y - p.y
-                if math.hypot(dx, dy) <= reach:
-                    turning = self.paused(p) is not None
-                else:
-                    vx, vy = self.last(p)
-                    speed = math.hypot(vx, vy)
-                    turning = math.hypot(p.vx, p.vy) > WALKING and speed > 0.0 \
-                        and 0.0 < (dx * vx + dy * vy) / speed <= COMING * speed and abs(dx * vy - dy * vx) / speed <= reach
-                if turning:
-                    out.append((x, y, reach))
-                    break
-        return out
-
     def _stride(self, person: Person) -> tuple[float, float]:
         """A strider's velocity: their speed now, headed where they walked (module docstring)."""
         trail = self._trail.get(person.id)
@@ -171,11 +143,6 @@ class Walks:
                 or self.clock() - walk[2] > PAUSE:
             return None
         return walk[:2]
-
-
-def turning(circles: list[tuple[float, float, float]]) -> list[Person]:
-    """Turn circles (x, y, reach) as people standing there, as wide (``Walks.coming``)."""
-    return [Person(-1, x, y, 0.0, 0.0, reach, 1.0) for x, y, reach in circles]
 
 
 def walks_of(people: PeopleSource) -> Walks:

@@ -14,8 +14,6 @@ with ``keep_out = radius + clearance + robot_radius``:
                                      walker's way (one who does not yield walks on into it);
                                      for someone paused, their last walk's stretch both ways
                                      (``nav.walks``): they walk back the way they came, or on
-    round a turn someone is coming   the same as round a person as wide as the circle a
-    to or turning in                 turning body sweeps (``Walks.coming``)
 
 The layer comes after inflation, not before: its keep-out already counts the robot's inscribed
 radius, and inflating a person's disc would add the 0.22 m again. A cell the master does not
@@ -45,7 +43,7 @@ from nav.costmap.config import PersonLayerConfig
 from nav.costmap.grid import INSCRIBED, LETHAL, UNKNOWN
 from nav.frames import compose
 from nav.grid_geometry import GridGeometry
-from nav.walks import turning, walks_of
+from nav.walks import walks_of
 
 #: The highest cost below inscribed: the falloff's start.
 HIGHEST = INSCRIBED - 1
@@ -68,40 +66,33 @@ class PersonLayer:
 
     def present(self) -> list[Person]:
         """The people that count, in this costmap's frame."""
-        return self._in_frame(self._seen())
-
-    def _seen(self) -> list[Person]:
-        """The people that count, odom frame (each read remembers their walks)."""
-        return [p for p in self.people() if p.confidence >= self.config.min_confidence]
-
-    def _in_frame(self, people: list[Person]) -> list[Person]:
+        seen = [p for p in self.people() if p.confidence >= self.config.min_confidence]
+        if not seen:
+            return []
         t = self.frame()
         c, s = np.cos(t.yaw), np.sin(t.yaw)
         out = []
-        for p in people:
+        for p in seen:
             q = compose(t, Pose2D(p.x, p.y, 0.0))
             out.append(Person(p.id, q.x, q.y, c * p.vx - s * p.vy, s * p.vx + c * p.vy, p.radius, p.confidence))
         return out
 
     def apply(self, master: np.ndarray, geometry: GridGeometry) -> np.ndarray:
-        """``master`` (inflated costs) with every present person's costs over it, and a turn
-        circle's someone is coming to sweep (``nav.walks.Walks.coming``) kept out as a person
-        as wide; the same array when nobody is about, else a new one."""
-        seen = self._seen()
-        if not seen:
+        """``master`` (inflated costs) with every present person's costs over it; the same array
+        when nobody is about, else a new one."""
+        people = self.present()
+        if not people:
             return master
         out = master.copy()
         yaw = self.frame().yaw
         c, s = np.cos(yaw), np.sin(yaw)
-        for p in self._in_frame(seen):
+        for p in people:
             self._stamp(out, geometry, p)
             walk = self.people.paused(p)
             if walk is not None:  # their way back and on, each a walker's predicted stretch
                 vx, vy = c * walk[0] - s * walk[1], s * walk[0] + c * walk[1]
                 for sign in (-1.0, 1.0):
                     self._stamp(out, geometry, replace(p, vx=sign * vx, vy=sign * vy))
-        for disc in self._in_frame(turning(self.people.coming(seen))):
-            self._stamp(out, geometry, disc)
         return out
 
     def costs(self, geometry: GridGeometry, person: Person) -> tuple[tuple[slice, slice], np.ndarray]:

@@ -3,11 +3,9 @@ from __future__ import annotations
 
 import math
 
-from hw.interfaces import ZERO_TWIST
 from hw.odometry import Pose2D
 from hw.people import Person
 from nav.config import NavConfig
-from nav.costmap.grid import CostGrid
 from nav.people_nearby import PeopleNearby
 from nav.walks import KEPT, PAUSE, SWEEP, TURN_KEPT, Walks
 
@@ -164,57 +162,3 @@ def test_someone_who_stops_for_the_robot_has_not_turned():
     gap[0] = 1.0
     walks()
     assert walks.turns() == [(11.4, 2.5, SWEEP * 0.43)]
-
-
-def _turned_at_the_north_end(t: list[float], now: list[Person]) -> Walks:
-    """A cart pusher (x 1.0) who walked north and turned round at (1.0, 6.5)."""
-    walks = Walks(lambda: now, lambda: t[0])
-    for k, y in enumerate((5.5, 5.95)):
-        t[0] = 0.5 * k
-        now[:] = [Person(4, 1.0, y, 0.0, 0.9, 0.45, 0.9)]
-        walks()
-    t[0] = 1.0
-    now[:] = [Person(4, 1.0, 6.5, 0.05, 0.0, 0.45, 0.9)]
-    walks()
-    return walks
-
-
-def test_a_turn_is_coming_while_its_walker_turns_in_it_or_walks_at_it():
-    """safety.people seed 105, 1,391 s: the robot waited for a cart in the circle it turns in. The
-    circle is kept out while the cart turns there or walks back to it within ``COMING`` s; not
-    while it walks away or stands at the far end, when the robot crosses."""
-    t, now = [0.0], []
-    walks = _turned_at_the_north_end(t, now)
-    circle = [(1.0, 6.5, SWEEP * 0.45)]
-    assert walks.coming(now) == circle  # turning in it
-    for k, (y, vy) in enumerate(((6.0, -0.9), (5.5, -0.9), (2.0, 0.0))):  # away south, then paused there
-        t[0] = 2.0 + 0.5 * k
-        now[:] = [Person(4, 1.0, y, 0.0, vy, 0.45, 0.9)]
-        walks()
-        assert circle[0] not in walks.coming(now)
-    assert walks.coming(now) == [(1.0, 2.0, SWEEP * 0.45)]  # turning at the south end now
-    for y, coming in ((2.1, False), (3.2, True)):  # back north: 4.4 m off, then 3.3 m at 0.9 m/s
-        t[0] += 0.5
-        now[:] = [Person(4, 1.0, y, 0.0, 0.9, 0.45, 0.9)]
-        walks()
-        assert (circle[0] in walks.coming(now)) == coming
-    aside = Person(4, 2.5, 3.2, 0.0, 0.9, 0.45, 0.9)  # walking north 1.5 m east of it: passes it by
-    assert walks.coming([aside]) == []
-
-
-def test_the_robot_steps_out_of_a_circle_a_cart_is_coming_to_turn_in():
-    """Standing in the circle, it is in a keep-out (its wait is outside) and steps out; with the
-    cart walking away it is in none."""
-    t, now = [0.0], []
-    walks = _turned_at_the_north_end(t, now)
-    nearby = PeopleNearby(NavConfig(), walks, Pose2D)
-    floor = CostGrid.filled(120, 120, 0.05, -2.0, 3.5)
-    robot = Pose2D(1.3, 6.6, 0.0)
-    t[0] = 3.0
-    now[:] = [Person(4, 1.0, 3.5, 0.0, 0.9, 0.45, 0.9)]  # coming back north
-    assert nearby.in_keep_out(robot.x, robot.y)
-    step = nearby.evade(robot, floor)
-    assert math.hypot(step.vx, step.vy) > 0.1
-    now[:] = [Person(4, 1.0, 3.5, 0.0, -0.9, 0.45, 0.9)]  # walking away south
-    assert not nearby.in_keep_out(robot.x, robot.y)
-    assert nearby.evade(robot, floor) == ZERO_TWIST
