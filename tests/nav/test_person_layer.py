@@ -111,10 +111,12 @@ def test_a_walker_who_paused_keeps_the_robot_out_of_their_walk_both_ways_in_the_
     """Paused at the end of their walk, a cart pusher turns and walks back (safety.people seed 2,
     1,472 s: the robot crossed in front of one and was walked into): their last walk's stretch
     both ways, turned into the global costmap's frame by map -> odom."""
-    now = [Person(id=5, x=0.0, y=0.0, vx=0.0, vy=0.8, radius=0.2, confidence=0.9)]  # north, odom
+    now = [Person(id=5, x=0.0, y=-0.4, vx=0.0, vy=0.8, radius=0.2, confidence=0.9)]  # north, odom
     odom_in_map = Pose2D(0.0, 0.0, math.pi / 2)  # odom's north is the map's west
     cm = global_costmap(CFG.costmap, lambda: now, lambda: odom_in_map)
     floor = lambda: cm.set_static(np.zeros((120, 120), np.int8), 0.05, -3.0, -3.0)  # noqa: E731 - each a rebuild
+    floor()
+    now[:] = [Person(id=5, x=0.0, y=0.0, vx=0.0, vy=0.8, radius=0.2, confidence=0.9)]  # 0.4 m on: a walk
     floor()
     assert cost(cm, KEEP_OUT + 0.5, 0.0) == 0  # walking: nothing behind them
     now[:] = [Person(id=5, x=0.0, y=0.0, vx=0.02, vy=0.0, radius=0.2, confidence=0.9)]  # paused
