@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from typing import Callable
+from typing import Callable, NamedTuple
 
 from hw.people import Person, PeopleSource
 
@@ -54,17 +54,25 @@ SWEEP = 2.0
 YIELDED = 0.5
 
 
+class Stride(NamedTuple):
+    vx: float
+    vy: float
+    """A person's last striding velocity, odom, m/s."""
+    when: float
+    walked: bool
+    """Seen to walk ``HEADING_WALKED`` within ``HEADING_OVER``: only then is it a walk (``paused``)."""
+
+
 class Walks:
     def __init__(self, people: PeopleSource, clock: Callable[[], float] = lambda: 0.0,
                  gap: Callable[[Person], float] = lambda p: math.inf):
         """``clock``: the runtime's seconds (a pause is timed on it); ``gap``: body to body from
         the robot to a person, m (who pauses within ``YIELDED`` has stopped for the robot)."""
         self.people, self.clock, self.gap = people, clock, gap
-        self._last: dict[int, tuple[float, float, float, bool]] = {}
-        """Each person's last striding velocity (odom), when, and whether they have been seen to
-        walk ``HEADING_WALKED`` within ``HEADING_OVER`` (only they turn: a standing worker's track,
-        its velocity jittering past ``STRIDING`` a moment, turned in a 1.25 m circle round them,
-        safety.people seed 1), by id, the latest walked last."""
+        self._last: dict[int, Stride] = {}
+        """Each person's last stride by id, the latest walked last, seen to walk or not: only
+        those seen to walk turn or keep a walk (a standing worker's track, its velocity jittering
+        past ``STRIDING`` a moment, turned in a 1.25 m circle round them, safety.people seed 1)."""
         self._trail: dict[int, deque[tuple[float, float, float]]] = {}
         """Each strider's (when, x, y) over the last ``HEADING_OVER`` s and one before, by id."""
         self._turns: list[tuple[float, float, float, float]] = []
@@ -85,9 +93,10 @@ class Walks:
                 trail.append((now, p.x, p.y))
             while len(trail) > 2 and trail[1][0] <= now - HEADING_OVER:
                 trail.popleft()
-            walked = self._last.pop(p.id, (0.0, 0.0, 0.0, False))[3] \
+            before = self._last.pop(p.id, None)
+            walked = (before is not None and before.walked) \
                 or math.hypot(p.x - trail[0][1], p.y - trail[0][2]) >= HEADING_WALKED
-            self._last[p.id] = (*self._stride(p), now, walked)
+            self._last[p.id] = Stride(*self._stride(p), now, walked)
         for kept in (self._last, self._trail):
             while len(kept) > KEPT:
                 del kept[next(iter(kept))]
@@ -128,8 +137,8 @@ class Walks:
         they were seen to walk (``paused``)."""
         if math.hypot(person.vx, person.vy) > STRIDING:
             return self._stride(person)
-        walk = self._last.get(person.id)
-        return (person.vx, person.vy) if walk is None or not walk[3] else walk[:2]
+        walk = self._walk(person)
+        return (person.vx, person.vy) if walk is None else (walk.vx, walk.vy)
 
     def paused(self, person: Person) -> tuple[float, float] | None:
         """The velocity of a paused person's last walk (odom), while the pause is short enough
@@ -138,11 +147,15 @@ class Walks:
         ``STRIDING`` for a moment is no walk (safety.people seed 105, 1,387 s: read as one, it
         laid a lane 4 m back along the side aisle beside the robot, its only refuge from a
         cart's cross aisle, and the robot stood in the cart's way until it walked into it)."""
-        walk = self._last.get(person.id)
-        if math.hypot(person.vx, person.vy) > WALKING or walk is None or not walk[3] \
-                or self.clock() - walk[2] > PAUSE:
+        walk = self._walk(person)
+        if math.hypot(person.vx, person.vy) > WALKING or walk is None or self.clock() - walk.when > PAUSE:
             return None
-        return walk[:2]
+        return walk.vx, walk.vy
+
+    def _walk(self, person: Person) -> Stride | None:
+        """``person``'s last stride if they were seen to walk, else None."""
+        walk = self._last.get(person.id)
+        return walk if walk is not None and walk.walked else None
 
 
 def walks_of(people: PeopleSource) -> Walks:
