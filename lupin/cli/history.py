@@ -228,14 +228,16 @@ def export(
         print(f"wrote {csv_dir / name} ({n} rows)")
 
 
+NO_SPOOL = "none (a sim run without runtime.state_dir keeps its spool in memory)"
+
+
 def _spool(config):
     """The spool of this machine's runtime: ``history.spool`` in the state directory of
-    ``runtime.backend`` (the robot's fixed one; a sim's is fresh per run unless
-    ``runtime.state_dir`` names one)."""
-    from mission.history.spool import open_spool
-    from mission.runtime.state_dir import state_directory
+    ``runtime.backend`` (the robot's fixed one, or ``runtime.state_dir``); a sim without one
+    keeps its spool in memory, so there is none to read here."""
+    from mission.history.spool import runtime_spool
 
-    return open_spool(state_directory(config.runtime, config.runtime.backend))
+    return runtime_spool(config.runtime, config.runtime.backend)
 
 
 def _target(ctx: typer.Context, url: Optional[str]):
@@ -273,12 +275,12 @@ def status(
         db: n for db, n in spool.databases().items() if db != shown}
     spool.close()
     if as_json:
-        _print_json({"database": shown, "reachable": why is None, "reason": why, "spool": str(spool.path),
+        _print_json({"database": shown, "reachable": why is None, "reason": why, "spool": None if spool.path is None else str(spool.path),
                      "waiting": waiting, "rows_waiting": rows, "other_databases": others})
         return
     print(f"history: {shown}")
     print(f"reachable: {'yes' if why is None else f'no ({why})'}")
-    print(f"spool: {spool.path}: {rows} row(s) waiting ({waiting} write(s))")
+    print(f"spool: {spool.path or NO_SPOOL}: {rows} row(s) waiting ({waiting} write(s))")
     for db, n in others.items():
         print(f"  also {n} write(s) waiting for {db} (another database: lupin history sync --history URL)")
 
@@ -303,7 +305,7 @@ def sync(
     if as_json:
         _print_json({"database": store.shown, "sent_rows": sent, "waiting": left, "reason": why})
     else:
-        print(f"history {store.shown}: {sent} row(s) sent from {spool.path}; "
+        print(f"history {store.shown}: {sent} row(s) sent from {spool.path or NO_SPOOL}; "
               + ("nothing waits" if not left else f"{left} write(s) still wait ({why})"))
     if left:
         raise typer.Exit(1)

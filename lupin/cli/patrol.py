@@ -39,18 +39,18 @@ def check_report(report: Path) -> None:
 
 def open_patrol_history(config, history: Optional[str]):
     """The history the patrol is recorded in (``--history``, else ``history.url``), with its spool
-    (``history.spool`` in the state directory of ``runtime.backend``: the robot's fixed one, a
-    fresh one per sim run). A server that does not answer is no error: the robot runs and its rows
-    wait in the spool (spec/history.md); a malformed URL or an unusable local file is exit 2."""
-    from mission.history.spool import open_spool
+    (``history.spool`` in the state directory of ``runtime.backend``: the robot's fixed one or
+    ``runtime.state_dir``; else, in the sim, in memory). A server that does not answer is no
+    error: the robot runs and its rows wait in the spool (spec/history.md); a malformed URL or
+    an unusable local file is exit 2."""
+    from mission.history.spool import runtime_spool
     from mission.history.store import open_history
     from mission.history.url import parse_history_url
-    from mission.runtime.state_dir import state_directory
 
     url, option = (history, "--history") if history is not None else (config.history.url, "history.url")
     if parse_history_url(url, option) is None:
         return None
-    spool = open_spool(state_directory(config.runtime, config.runtime.backend))
+    spool = runtime_spool(config.runtime, config.runtime.backend)
     return open_history(url, option, connect_timeout=config.history.connect_timeout, spool=spool)
 
 

@@ -105,3 +105,15 @@ class MemorySpool(Spool):
 def open_spool(directory: Path) -> Spool:
     """The spool in the state directory ``directory``."""
     return Spool(Path(directory) / FILE_NAME)
+
+
+def runtime_spool(runtime, backend: str) -> Spool:
+    """The spool of a runtime (``runtime``: its ``RuntimeConfig``) on ``backend``: in its state
+    directory when it has one that outlives the run (the robot's, or one the config names), else
+    in memory. A sim run's own state directory is fresh and thrown away, so a spool there would
+    be found by no later command: it only left a directory in the temp dir per patrol."""
+    if backend != "hw" and runtime.state_dir is None:
+        return MemorySpool()
+    from mission.runtime.state_dir import state_directory
+
+    return open_spool(state_directory(runtime, backend))

@@ -326,7 +326,7 @@ def open_history(url: str, option: str = "--history", create: bool = True, clock
         why = str(exc) if isinstance(exc, (NewerSchema, NotAHistory)) else reason(exc)
         if spool is not None and not target.is_sqlite:
             log.error("history %s: %s; the robot runs on, its patrols kept in the spool %s until it answers",
-                      target.shown, why, spool.path)
+                      target.shown, why, spool.path or "in memory (lost if the process ends)")
             history = History(engine, target, clock, spool, ready=False)
             history.outbox.down = why
             return history

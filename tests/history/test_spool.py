@@ -137,3 +137,24 @@ def test_status_says_an_unreachable_server_and_sync_fails_without_losing_anythin
     assert main(["history", "sync", "--history", url]) == 1
     assert "3 write(s) still wait" in capsys.readouterr().out and spool.count(url) == 3
     assert main(["history", "status", "--history", "postgresql://x@h:notaport/db"]) == 2  # malformed: bad input
+
+
+def test_a_sim_run_without_a_state_directory_spools_in_memory_and_leaves_no_directory(tmp_path, capsys, monkeypatch):
+    """A sim run's own state directory is fresh and thrown away, so no later command could find a
+    spool there: it is kept in memory, and nothing is left in the temp dir (one per patrol, before)."""
+    import tempfile
+
+    from mission.history.spool import runtime_spool
+    from mission.runtime.settings import RuntimeConfig
+
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    spool = runtime_spool(RuntimeConfig(), "sim")
+    spool.append("db", writes_of(new_uid(), ["P01"]))
+    assert spool.path is None and spool.count("db") == 3 and list(tmp_path.iterdir()) == []
+    kept = runtime_spool(RuntimeConfig(state_dir=str(tmp_path / "kept")), "sim")
+    assert kept.path == tmp_path / "kept" / FILE_NAME  # named: it outlives the run
+    db = str(tmp_path / "h.db")
+    open_history(db).close()
+    assert main(["history", "status", "--history", db, "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["spool"] is None
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["h.db", "kept"]
