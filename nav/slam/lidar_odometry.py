@@ -45,6 +45,7 @@ from hw.odometry import Pose2D
 from nav.frames import compose, inverse, to_matrix
 from nav.slam.config import SlamConfig
 from nav.slam.planar_icp import VoxelMap, align
+from nav.slam.relocate import relocate
 
 
 def kiss_config(cfg: SlamConfig) -> KISSConfig:
@@ -70,6 +71,12 @@ class LidarOdometry:
         self.pose = start
         """The latest registered pose of ``base_link`` in this odometry's frame."""
         self._odom: Pose2D | None = None
+        self.lost = False
+        """Was the last scan coasted over (too blind, or hidden by people against the robot)?
+        Then the next one registered is searched for over a window (``nav.slam.relocate``): a
+        cart over the lidar may have been shoving the robot."""
+        self.relocations = 0
+        """Scans searched for so far."""
 
     def seed(self, points: np.ndarray) -> None:
         """Fill the local map with (N, 2) points already placed in this odometry's frame (a
@@ -86,8 +93,13 @@ class LidarOdometry:
             new = guess
         else:
             sigma = self.threshold.get_threshold()
-            new = align(fine, self.local_map, guess, 3 * sigma, sigma)
-            self.threshold.update_model_deviation(to_matrix(compose(inverse(guess), new)))
+            if self.lost:  # a shove the wheels did not feel is no prediction error to learn from
+                new = relocate(fine, self.local_map, guess, 3 * sigma, sigma)
+                self.relocations += 1
+            else:
+                new = align(fine, self.local_map, guess, 3 * sigma, sigma)
+                self.threshold.update_model_deviation(to_matrix(compose(inverse(guess), new)))
+        self.lost = False
         self.local_map.update(fine, new)
         self.pose = new
         return new
@@ -96,6 +108,7 @@ class LidarOdometry:
         """Move the pose by the wheel odometry alone (a scan too blind to register): nothing
         joins the local map, and the adaptive threshold learns nothing from it."""
         self.pose = self._moved(odom)
+        self.lost = True
         return self.pose
 
     def _moved(self, odom: Pose2D) -> Pose2D:

@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from hw.odometry import Pose2D
+from nav.frames import compose
 from hw.people import Person
 from nav.slam.config import SlamConfig
 from nav.slam.mapper import Mapper
@@ -103,3 +104,41 @@ def test_only_people_pressing_on_the_robot_are_left_out_and_only_for_a_while():
     pressing()
     gaps[1] = 0.05
     assert pressing() == [cart]
+
+
+def slid_under_a_cart(step: float, turn: float) -> tuple[Mapper, Pose2D, Pose2D]:
+    """A robot standing in an aisle, then a cart over its lidar (every return on it, a tracked
+    person) while it slides ``step`` m along -y and turns ``turn`` rad a scan for ten scans, its
+    wheels still, then the cart gone: the mapper, its pose and the truth after five clear scans."""
+    truth = Pose2D(1.5, 2.0, 0.0)
+    mapper = Mapper(SlamConfig(), MOUNT, truth)
+
+    def seen(pose: Pose2D):
+        lidar = compose(pose, MOUNT)
+        return scan_from_occupancy(GREENHOUSE, RES, (lidar.x, lidar.y, lidar.yaw))
+
+    for _ in range(10):
+        scan = seen(truth)
+        mapper.process(scan.angles, scan.ranges, Pose2D())
+    for _ in range(10):
+        truth = Pose2D(truth.x, truth.y - step, truth.yaw + turn)
+        angles = seen(truth).angles
+        ranges = np.full(len(angles), 0.3)  # the cart's faces all round the lidar
+        cart = [Person(1, MOUNT.x, 0.0, 0.0, 0.0, 0.35, 1.0)]
+        mapper.process(angles, ranges, Pose2D(), on_people(angles, ranges, MOUNT, cart))
+    for _ in range(5):
+        scan = seen(truth)
+        pose = mapper.process(scan.angles, scan.ranges, Pose2D())
+    return mapper, pose, truth
+
+
+def test_a_robot_slid_under_a_cart_is_found_again_when_the_cart_has_gone():
+    """safety.people seed 104 (``nav.slam.relocate``): a cart over the lidar slid the robot 0.64 m
+    and turned it 0.19 rad, the wheels felt nothing, and SLAM's pose stayed where the shove began,
+    for good. The hidden scans are coasted over, and the first clear one is searched for."""
+    mapper, pose, truth = slid_under_a_cart(0.06, 0.02)
+    assert mapper.blind_scans == 10 and mapper.odometry.relocations == 1
+    assert math.hypot(pose.x - truth.x, pose.y - truth.y) < 0.03 and abs(pose.yaw - truth.yaw) < 0.01, (pose, truth)
+    mapper, pose, truth = slid_under_a_cart(0.0, 0.0)  # only leaned on: it stays where it was
+    assert mapper.odometry.relocations == 1
+    assert math.hypot(pose.x - truth.x, pose.y - truth.y) < 0.01 and abs(pose.yaw - truth.yaw) < 0.005, (pose, truth)
