@@ -61,6 +61,8 @@ class Stride(NamedTuple):
     when: float
     walked: bool
     """Seen to walk ``HEADING_WALKED`` within ``HEADING_OVER``: only then is it a walk (``paused``)."""
+    start: tuple[float, float]
+    """Where this walk began (odom): the first stride after a pause or a turn."""
 
 
 class Walks:
@@ -96,7 +98,9 @@ class Walks:
             before = self._last.pop(p.id, None)
             walked = (before is not None and before.walked) \
                 or math.hypot(p.x - trail[0][1], p.y - trail[0][2]) >= HEADING_WALKED
-            self._last[p.id] = Stride(*self._stride(p), now, walked)
+            vx, vy = self._stride(p)
+            on = before is not None and now - before.when <= HEADING_OVER and before.vx * vx + before.vy * vy > 0.0
+            self._last[p.id] = Stride(vx, vy, now, walked, before.start if on else (p.x, p.y))
         for kept in (self._last, self._trail):
             while len(kept) > KEPT:
                 del kept[next(iter(kept))]
@@ -151,6 +155,14 @@ class Walks:
         if math.hypot(person.vx, person.vy) > WALKING or walk is None or self.clock() - walk.when > PAUSE:
             return None
         return walk.vx, walk.vy
+
+    def way_back(self, person: Person) -> tuple[float, float] | None:
+        """From a paused ``person`` back to where their last walk began (odom), or None when
+        they are not paused (``paused``): a pacer turns and walks the whole of it again."""
+        if self.paused(person) is None:
+            return None
+        walk = self._walk(person)
+        return walk.start[0] - person.x, walk.start[1] - person.y
 
     def _walk(self, person: Person) -> Stride | None:
         """``person``'s last stride if they were seen to walk, else None."""

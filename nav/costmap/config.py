@@ -47,6 +47,11 @@ class PersonLayerConfig(Strict):
     step_speed: float = Field(0.3, gt=0)
     """Speed of a step out of a person's way, m/s (the people guard brings it down to 0.15 m/s
     within 1 m of anyone)."""
+    whole_walk_back: bool = False
+    """Keep a paused walker's whole last walk out, back to where it began, not only
+    ``predict_time`` of it (``nav.walks.Walks.way_back``): the planner's (global) costmap does,
+    so it plans no way along an aisle a pacer stands at the far end of (safety.people seed 104,
+    650 s). The local costmap keeps MPPI's near view."""
     min_confidence: float = Field(0.5, ge=0, le=1)
     """Tracks at least this confident count (the tracker reports anything the map and the known
     pots do not explain at 0.5: a person until shown otherwise)."""
@@ -110,7 +115,7 @@ class GlobalCostmapConfig(Strict):
     space), so the planner can tell explored from unexplored ground."""
     inf_is_valid: bool = False
     """As the local map's ``inf_is_valid``."""
-    people: PersonLayerConfig = PersonLayerConfig()
+    people: PersonLayerConfig = PersonLayerConfig(whole_walk_back=True)
     """The person layer: NavFn goes round a person by another aisle where the one they stand in
     is too narrow to pass them at ``clearance``."""
     occupied_thresh: float = Field(0.65, gt=0, le=1)

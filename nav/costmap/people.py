@@ -93,6 +93,11 @@ class PersonLayer:
                 vx, vy = c * walk[0] - s * walk[1], s * walk[0] + c * walk[1]
                 for sign in (-1.0, 1.0):
                     self._stamp(out, geometry, replace(p, vx=sign * vx, vy=sign * vy))
+                back = self.people.way_back(p) if self.config.whole_walk_back else None
+                if back is not None and self.config.predict_time > 0.0:
+                    bx, by = (c * back[0] - s * back[1]) / self.config.predict_time, \
+                        (s * back[0] + c * back[1]) / self.config.predict_time
+                    self._stamp(out, geometry, replace(p, vx=bx, vy=by))
         return out
 
     def costs(self, geometry: GridGeometry, person: Person) -> tuple[tuple[slice, slice], np.ndarray]:

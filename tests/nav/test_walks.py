@@ -162,3 +162,25 @@ def test_someone_who_stops_for_the_robot_has_not_turned():
     gap[0] = 1.0
     walks()
     assert walks.turns() == [(11.4, 2.5, SWEEP * 0.43)]
+
+
+def test_a_paused_pacers_way_back_is_their_whole_last_walk():
+    """A cart pusher who walked 4.5 m up their aisle and stands at its end walks all of it back
+    (safety.people seed 104, 650 s: the planner took the aisle 4 m from them for the way home,
+    and they came back down it into the robot): the way back reaches where that walk began,
+    over a moment's slowing in it, but not past the turn before it."""
+    t = [0.0]
+    now = [Person(7, 1.0, 0.0, 0.0, -1.0, 0.4, 0.9)]  # walking south first
+    walks = Walks(lambda: now, lambda: t[0])
+    walks()
+    for k in range(1, 20):  # turned at y = -0.5 and walked north 4.5 m, slowing once
+        t[0] = 0.5 * k
+        y = -0.5 + 0.25 * (k - 1)
+        now[:] = [Person(7, 1.0, y, 0.0, 0.3 if k == 8 else 0.5, 0.4, 0.9)]
+        walks()
+    t[0] += 1.0
+    now[:] = [Person(7, 1.0, 4.0, 0.0, 0.0, 0.4, 0.9)]
+    (p,) = walks()
+    back = walks.way_back(p)
+    assert back is not None and math.hypot(back[0], back[1] + 4.5) < 0.3, back
+    assert walks.way_back(Person(7, 1.0, 4.0, 0.0, 0.5, 0.4, 0.9)) is None  # walking: not paused
