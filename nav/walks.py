@@ -49,11 +49,6 @@ SAME_TURN = 1.0
 #: tracked circle holds pusher and cart, and the cart swings round the pusher (its far corner
 #: ~0.8 m from them); a person turning on the spot stays in a circle about their own.
 SWEEP = 2.0
-#: A walk at least this long is someone's way through the greenhouse (``walked``), m: a pacer's
-#: cross aisle, not a step round a bench.
-WAY = 1.5
-#: A way is remembered this long after it was last walked, s.
-WAY_KEPT = 60.0
 #: Someone pausing nearer the robot than this, body to body, has stopped for it, m: the sim's
 #: walkers who yield stop 0.3 m short, and the tracker's gaps wander a tenth either way.
 YIELDED = 0.5
@@ -68,9 +63,6 @@ class Stride(NamedTuple):
     """Seen to walk ``HEADING_WALKED`` within ``HEADING_OVER``: only then is it a walk (``paused``)."""
     start: tuple[float, float]
     """Where this walk began (odom): the first stride after a pause or a turn."""
-    end: tuple[float, float]
-    """Where it has got to (odom)."""
-    radius: float
 
 
 class Walks:
@@ -85,8 +77,6 @@ class Walks:
         past ``STRIDING`` a moment, turned in a 1.25 m circle round them, safety.people seed 1)."""
         self._trail: dict[int, deque[tuple[float, float, float]]] = {}
         """Each strider's (when, x, y) over the last ``HEADING_OVER`` s and one before, by id."""
-        self._ways: list[tuple[float, float, float, float, float, float]] = []
-        """(x0, y0, x1, y1, radius, when) of every finished walk of ``WAY`` or more (odom)."""
         self._turns: list[tuple[float, float, float, float]] = []
         """(x, y, reach, when) of every turn seen within ``TURN_KEPT`` (odom)."""
 
@@ -110,9 +100,7 @@ class Walks:
                 or math.hypot(p.x - trail[0][1], p.y - trail[0][2]) >= HEADING_WALKED
             vx, vy = self._stride(p)
             on = before is not None and now - before.when <= HEADING_OVER and before.vx * vx + before.vy * vy > 0.0
-            if before is not None and not on:
-                self._ended(before)
-            self._last[p.id] = Stride(vx, vy, now, walked, before.start if on else (p.x, p.y), (p.x, p.y), p.radius)
+            self._last[p.id] = Stride(vx, vy, now, walked, before.start if on else (p.x, p.y))
         for kept in (self._last, self._trail):
             while len(kept) > KEPT:
                 del kept[next(iter(kept))]
@@ -167,20 +155,6 @@ class Walks:
         if math.hypot(person.vx, person.vy) > WALKING or walk is None or self.clock() - walk.when > PAUSE:
             return None
         return walk.vx, walk.vy
-
-    def _ended(self, walk: Stride) -> None:
-        if walk.walked and math.dist(walk.start, walk.end) >= WAY:
-            self._ways.append((*walk.start, *walk.end, walk.radius, walk.when))
-            del self._ways[:-KEPT]
-
-    def walked(self) -> list[tuple[float, float, float, float, float]]:
-        """(x0, y0, x1, y1, radius) of each way people walked within ``WAY_KEPT`` s, those still
-        being walked included (odom): where a pacer will walk again."""
-        now = self.clock()
-        self._ways = [w for w in self._ways if now - w[5] <= WAY_KEPT]
-        going = [(*w.start, *w.end, w.radius) for w in self._last.values()
-                 if w.walked and now - w.when <= WAY_KEPT and math.dist(w.start, w.end) >= WAY]
-        return [w[:5] for w in self._ways] + going
 
     def way_back(self, person: Person) -> tuple[float, float] | None:
         """From a paused ``person`` back to where their last walk began (odom), or None when

@@ -52,11 +52,6 @@ class PersonLayerConfig(Strict):
     ``predict_time`` of it (``nav.walks.Walks.way_back``): the planner's (global) costmap does,
     so it plans no way along an aisle a pacer stands at the far end of (safety.people seed 104,
     650 s). The local costmap keeps MPPI's near view."""
-    way_cost: int = Field(0, ge=0, le=252)
-    """The cost of the ways people walked in the last minute (``nav.walks.Walks.walked``), as
-    wide as their keep-out, 0 for none: the planner's costmap crosses a pacer's cross aisle
-    rather than drive along it (safety.people seed 107, 616-620 s: driving down the cross aisle
-    a cart pusher paced, the robot was caught from behind and shoved 1.9 m)."""
     min_confidence: float = Field(0.5, ge=0, le=1)
     """Tracks at least this confident count (the tracker reports anything the map and the known
     pots do not explain at 0.5: a person until shown otherwise)."""
@@ -120,7 +115,7 @@ class GlobalCostmapConfig(Strict):
     space), so the planner can tell explored from unexplored ground."""
     inf_is_valid: bool = False
     """As the local map's ``inf_is_valid``."""
-    people: PersonLayerConfig = PersonLayerConfig(whole_walk_back=True, way_cost=200)
+    people: PersonLayerConfig = PersonLayerConfig(whole_walk_back=True)
     """The person layer: NavFn goes round a person by another aisle where the one they stand in
     is too narrow to pass them at ``clearance``."""
     occupied_thresh: float = Field(0.65, gt=0, le=1)

@@ -81,12 +81,9 @@ class PersonLayer:
         """``master`` (inflated costs) with every present person's costs over it; the same array
         when nobody is about, else a new one."""
         people = self.present()
-        ways = self.people.walked() if self.config.way_cost else []
-        if not people and not ways:
+        if not people:
             return master
         out = master.copy()
-        if ways:
-            self._ways(out, geometry, ways)
         yaw = self.frame().yaw
         c, s = np.cos(yaw), np.sin(yaw)
         for p in people:
@@ -131,27 +128,6 @@ class PersonLayer:
         fall = (HIGHEST * np.exp(-self.k * np.maximum(past, 0.0))).astype(np.int64)
         cost = np.where(past <= 0.0, LETHAL, np.where(past <= self.config.gradient, fall, 0))
         return cost.astype(np.uint8)
-
-    def _ways(self, out: np.ndarray, geometry: GridGeometry, ways) -> None:
-        """Each way people walked (``nav.walks.Walks.walked``), as wide as the walker's keep-out,
-        at ``way_cost`` (where nothing costs more): a pacer's aisle is crossed, not driven along."""
-        t = self.frame()
-        for x0, y0, x1, y1, radius in ways:
-            a, b = compose(t, Pose2D(x0, y0, 0.0)), compose(t, Pose2D(x1, y1, 0.0))
-            half = radius + self.config.clearance + self.robot_radius
-            ix, iy = geometry.cell_of(np.array([min(a.x, b.x) - half, max(a.x, b.x) + half]),
-                                      np.array([min(a.y, b.y) - half, max(a.y, b.y) + half]))
-            xs0, xs1 = max(0, int(ix[0])), min(geometry.width, int(ix[1]) + 1)
-            ys0, ys1 = max(0, int(iy[0])), min(geometry.height, int(iy[1]) + 1)
-            if xs0 >= xs1 or ys0 >= ys1:
-                continue
-            cx, cy = geometry.centre_of(np.arange(xs0, xs1)[None, :], np.arange(ys0, ys1)[:, None])
-            vx, vy = b.x - a.x, b.y - a.y
-            n = max(vx * vx + vy * vy, 1e-12)
-            u = np.clip(((cx - a.x) * vx + (cy - a.y) * vy) / n, 0.0, 1.0)
-            inside = np.hypot(cx - a.x - u * vx, cy - a.y - u * vy) <= half
-            m = out[ys0:ys1, xs0:xs1]
-            out[ys0:ys1, xs0:xs1] = np.where(inside & (m != UNKNOWN), np.maximum(m, self.config.way_cost), m)
 
     def _stamp(self, out: np.ndarray, geometry: GridGeometry, person: Person) -> None:
         window, cost = self.costs(geometry, person)

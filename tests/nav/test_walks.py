@@ -184,28 +184,3 @@ def test_a_paused_pacers_way_back_is_their_whole_last_walk():
     back = walks.way_back(p)
     assert back is not None and math.hypot(back[0], back[1] + 4.5) < 0.3, back
     assert walks.way_back(Person(7, 1.0, 4.0, 0.0, 0.5, 0.4, 0.9)) is None  # walking: not paused
-
-
-def test_the_ways_people_walked_are_remembered_for_a_minute_and_short_steps_are_not_ways():
-    """A pacer's aisle is a way (``Walks.walked``) while they walk it and a minute after; a step
-    of a metre round a bench is none."""
-    t = [0.0]
-    now: list[Person] = []
-    walks = Walks(lambda: now, lambda: t[0])
-
-    def walk(pid: int, x0: float, y0: float, dy: float, steps: int) -> None:
-        for k in range(steps):
-            t[0] += 0.5
-            now[:] = [Person(pid, x0, y0 + 0.5 * dy * k, 0.0, dy, 0.4, 0.9)]
-            walks()
-
-    walk(1, 8.0, 2.0, 1.0, 9)  # 4 m north
-    assert [tuple(round(v, 1) for v in w) for w in walks.walked()] == [(8.0, 2.0, 8.0, 6.0, 0.4)]
-    t[0] += 3.0  # a pause at the end, then back
-    walk(1, 8.0, 6.0, -1.0, 9)
-    ways = sorted(tuple(round(v, 1) for v in w) for w in walks.walked())
-    assert ways == [(8.0, 2.0, 8.0, 6.0, 0.4), (8.0, 6.0, 8.0, 2.0, 0.4)]
-    walk(2, 3.0, 3.0, 1.0, 3)  # 1 m: no way
-    assert len(walks.walked()) == 2
-    t[0] += 61.0
-    assert walks.walked() == []
