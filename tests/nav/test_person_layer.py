@@ -126,3 +126,31 @@ def test_a_walker_who_paused_keeps_the_robot_out_of_their_walk_both_ways_in_the_
     now[:] = [Person(id=6, x=0.0, y=0.0, vx=0.0, vy=0.0, radius=0.2, confidence=0.9)]  # someone who never walked
     floor()
     assert cost(cm, KEEP_OUT + 0.5, 0.0) == 0
+
+
+def test_the_planners_costmap_keeps_a_paused_pacers_whole_walk_back_out_and_the_local_one_a_second():
+    """A cart pusher walked 4 m up an aisle and stands at its end: the global costmap keeps the
+    whole of that walk out (they turn and walk it back: safety.people seed 104, 650 s, the way
+    home planned down it), MPPI's local costmap the second of it next to them, as before."""
+    from hw.interfaces import LidarScan
+    from nav.walks import Walks
+
+    t = [0.0]
+    now: list[Person] = []
+    walks = Walks(lambda: now, lambda: t[0])
+    gcm = global_costmap(CFG.costmap, walks)
+    gcm.set_static(np.zeros((200, 200), np.int8), 0.05, -5.0, -5.0)
+    lcm = local_costmap(CFG.costmap, walks)
+    for k in range(9):  # from y = -3 to y = 1
+        t[0] += 0.5
+        now[:] = [Person(5, 0.0, -3.0 + 0.5 * k, 0.0, 1.0, 0.2, 0.9)]
+        walks()
+    t[0] += 2.0
+    now[:] = [Person(5, 0.0, 1.0, 0.0, 0.0, 0.2, 0.9)]  # paused at the end
+    angles = np.linspace(-np.pi, np.pi, 360, endpoint=False).astype(np.float32)
+    blank = LidarScan(t[0], angles, np.full(360, np.inf, np.float32))
+    gcm.update(blank, (0.0, 0.0, 0.0), (0.0, 0.0))
+    lcm.update(blank, (0.0, 0.0, 0.0), (0.0, 0.0))
+    assert cost(gcm, 0.0, -2.5) == LETHAL and cost(gcm, 0.0, -0.5) == LETHAL  # the whole way back
+    assert cost(gcm, 0.0, -3.0 - KEEP_OUT - 0.3) == 0  # not past where the walk began
+    assert cost(lcm, 0.0, -1.0) < LETHAL == cost(gcm, 0.0, -1.0)  # 2 m back: the local second ends 1 m back
