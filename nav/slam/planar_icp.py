@@ -169,6 +169,24 @@ def _drop_far(count, points, used, ox, oy, max_distance):
 
 
 @njit(cache=True)
+def nearest(keys, count, points, voxel, px, py):
+    """(squared distance, x, y) of the map point nearest (``px``, ``py``) among the 3 x 3 voxels
+    round it; (inf, 0, 0) when they hold none."""
+    ix, iy = int(math.floor(px / voxel)), int(math.floor(py / voxel))
+    best, qx, qy = math.inf, 0.0, 0.0
+    for dx in range(-1, 2):
+        for dy in range(-1, 2):
+            k = _find(keys, count, ix + dx, iy + dy)
+            if k < 0:
+                continue
+            for j in range(count[k]):
+                d = (points[k, j, 0] - px) ** 2 + (points[k, j, 1] - py) ** 2
+                if d < best:
+                    best, qx, qy = d, points[k, j, 0], points[k, j, 1]
+    return best, qx, qy
+
+
+@njit(cache=True)
 def _align(xy, keys, count, points, voxel, gx, gy, gyaw, max_corr, kernel, max_iterations, convergence):
     n = xy.shape[0]
     c, s = math.cos(gyaw), math.sin(gyaw)
@@ -182,17 +200,7 @@ def _align(xy, keys, count, points, voxel, gx, gy, gyaw, max_corr, kernel, max_i
         a00 = a01 = a02 = a11 = a12 = a22 = b0 = b1 = b2 = 0.0
         for i in range(n):
             px, py = src[i, 0], src[i, 1]
-            ix, iy = int(math.floor(px / voxel)), int(math.floor(py / voxel))
-            best, qx, qy = math.inf, 0.0, 0.0
-            for dx in range(-1, 2):
-                for dy in range(-1, 2):
-                    k = _find(keys, count, ix + dx, iy + dy)
-                    if k < 0:
-                        continue
-                    for j in range(count[k]):
-                        d = (points[k, j, 0] - px) ** 2 + (points[k, j, 1] - py) ** 2
-                        if d < best:
-                            best, qx, qy = d, points[k, j, 0], points[k, j, 1]
+            best, qx, qy = nearest(keys, count, points, voxel, px, py)
             if not math.sqrt(best) < max_corr:
                 continue
             rx, ry = px - qx, py - qy

@@ -28,7 +28,7 @@ import numpy as np
 from numba import njit
 
 from hw.odometry import Pose2D
-from nav.slam.planar_icp import VoxelMap, _find, align
+from nav.slam.planar_icp import VoxelMap, align, nearest
 
 REACH = 1.2
 """How far from the guess the robot is looked for, m: the longest shove seen in safety.people
@@ -59,22 +59,7 @@ def _scores(xy, keys, count, points, voxel, gx, gy, gyaw, offsets, turns, inlier
             for i in range(xy.shape[0]):
                 px = ox + c * xy[i, 0] - s * xy[i, 1]
                 py = oy + s * xy[i, 0] + c * xy[i, 1]
-                ix, iy = int(math.floor(px / voxel)), int(math.floor(py / voxel))
-                hit = False
-                for dx in range(-1, 2):
-                    for dy in range(-1, 2):
-                        k = _find(keys, count, ix + dx, iy + dy)
-                        if k < 0:
-                            continue
-                        for j in range(count[k]):
-                            if (points[k, j, 0] - px) ** 2 + (points[k, j, 1] - py) ** 2 < lim:
-                                hit = True
-                                break
-                        if hit:
-                            break
-                    if hit:
-                        break
-                if hit:
+                if nearest(keys, count, points, voxel, px, py)[0] < lim:
                     n += 1
             out[o, t] = n
     return out
