@@ -13,7 +13,9 @@ with ``keep_out = radius + clearance + robot_radius``:
                                      next ``predict_time`` s: the robot does not step into a
                                      walker's way (one who does not yield walks on into it);
                                      for someone paused, their last walk's stretch both ways
-                                     (``nav.walks``): they walk back the way they came, or on
+                                     (``nav.walks``): they walk back the way they came, or on;
+                                     in the planner's costmap (``whole_walk_back``) all of
+                                     their last walk back to where it began
 
 The layer comes after inflation, not before: its keep-out already counts the robot's inscribed
 radius, and inflating a person's disc would add the 0.22 m again. A cell the master does not
@@ -94,10 +96,10 @@ class PersonLayer:
                 for sign in (-1.0, 1.0):
                     self._stamp(out, geometry, replace(p, vx=sign * vx, vy=sign * vy))
                 back = self.people.way_back(p) if self.config.whole_walk_back else None
-                if back is not None and self.config.predict_time > 0.0:
-                    bx, by = (c * back[0] - s * back[1]) / self.config.predict_time, \
-                        (s * back[0] + c * back[1]) / self.config.predict_time
-                    self._stamp(out, geometry, replace(p, vx=bx, vy=by))
+                if back is not None and self.config.predict_time > 0.0:  # a stretch is velocity x predict_time
+                    t = self.config.predict_time
+                    self._stamp(out, geometry, replace(p, vx=(c * back[0] - s * back[1]) / t,
+                                                       vy=(s * back[0] + c * back[1]) / t))
         return out
 
     def costs(self, geometry: GridGeometry, person: Person) -> tuple[tuple[slice, slice], np.ndarray]:
