@@ -275,7 +275,8 @@ def status(
         db: n for db, n in spool.databases().items() if db != shown}
     spool.close()
     if as_json:
-        _print_json({"database": shown, "reachable": why is None, "reason": why, "spool": None if spool.path is None else str(spool.path),
+        _print_json({"database": shown, "reachable": why is None, "reason": why,
+                     "spool": None if spool.path is None else str(spool.path),
                      "waiting": waiting, "rows_waiting": rows, "other_databases": others})
         return
     print(f"history: {shown}")

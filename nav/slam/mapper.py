@@ -156,10 +156,11 @@ class Mapper:
         """Integrate one revolution; returns the robot's map pose. ``people``: which returns
         fall on people (``nav.slam.people_mask``), left out once the scan is judged trustworthy."""
         cfg = self.cfg
-        if self.trust.judge(angles, np.isfinite(ranges)) is not None:
+        seen = np.isfinite(ranges)
+        if self.trust.judge(angles, seen) is not None:
             return self._coast(odom)
         if people is not None:
-            if np.count_nonzero(people) > HIDDEN * np.count_nonzero(np.isfinite(ranges)):
+            if np.count_nonzero(people) > HIDDEN * np.count_nonzero(seen):
                 return self._coast(odom)
             ranges = np.where(people, np.inf, ranges)
         points = scan_points(angles, ranges, self.mount, cfg.min_range, cfg.max_range)

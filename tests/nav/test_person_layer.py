@@ -139,7 +139,6 @@ def test_the_planners_costmap_keeps_a_paused_pacers_whole_walk_back_out_and_the_
     now: list[Person] = []
     walks = Walks(lambda: now, lambda: t[0])
     gcm = global_costmap(CFG.costmap, walks)
-    gcm.set_static(np.zeros((200, 200), np.int8), 0.05, -5.0, -5.0)
     lcm = local_costmap(CFG.costmap, walks)
     for k in range(9):  # from y = -3 to y = 1
         t[0] += 0.5
@@ -147,10 +146,9 @@ def test_the_planners_costmap_keeps_a_paused_pacers_whole_walk_back_out_and_the_
         walks()
     t[0] += 2.0
     now[:] = [Person(5, 0.0, 1.0, 0.0, 0.0, 0.2, 0.9)]  # paused at the end
+    gcm.set_static(np.zeros((200, 200), np.int8), 0.05, -5.0, -5.0)  # open floor, and a rebuild
     angles = np.linspace(-np.pi, np.pi, 360, endpoint=False).astype(np.float32)
-    blank = LidarScan(t[0], angles, np.full(360, np.inf, np.float32))
-    gcm.update(blank, (0.0, 0.0, 0.0), (0.0, 0.0))
-    lcm.update(blank, (0.0, 0.0, 0.0), (0.0, 0.0))
+    lcm.update(LidarScan(t[0], angles, np.full(360, np.inf, np.float32)), (0.0, 0.0, 0.0), (0.0, 0.0))  # sees nothing
     assert cost(gcm, 0.0, -2.5) == LETHAL and cost(gcm, 0.0, -0.5) == LETHAL  # the whole way back
     assert cost(gcm, 0.0, -3.0 - KEEP_OUT - 0.3) == 0  # not past where the walk began
     assert cost(lcm, 0.0, -1.0) < LETHAL == cost(gcm, 0.0, -1.0)  # 2 m back: the local second ends 1 m back

@@ -8,8 +8,8 @@ import math
 import numpy as np
 
 from hw.odometry import Pose2D
-from nav.frames import compose
 from hw.people import Person
+from nav.frames import compose
 from nav.slam.config import SlamConfig
 from nav.slam.mapper import Mapper
 from nav.slam.people_mask import MARGIN, PRESS_FOR, Pressing, on_people
