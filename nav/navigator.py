@@ -259,7 +259,7 @@ class Navigator(Waits, Recovery):
             return
         if now - self._last_attempt >= BLOCKED_REPLAN_GAP and (self.path is None or self._path_blocked()):
             self._update(self.global_costmap, pose)
-            if not self._replan(now):
+            if not self._replan(now) and not self._straight_in(pose):
                 return
         if self.path is None:  # the last plan failed less than BLOCKED_REPLAN_GAP ago
             self.io.publish(ZERO_TWIST, now)
@@ -368,6 +368,15 @@ class Navigator(Waits, Recovery):
             self._start_recovery(now, str(exc))
             return
         self.io.publish(self.smoother.smooth(Twist(vx, vy, wz), dt), now)
+
+    def _straight_in(self, pose: Pose2D) -> bool:
+        """Within ``nav.waits.FINISH`` of the goal with only people blocking the plan (their
+        keep-outs, a paused walker's whole walk, cover it): the rest of the way is the straight
+        line in, for MPPI and the guard to drive. True when it is."""
+        if not (self._person_blocks and self._finishing()):
+            return False
+        self.path = np.array([[pose.x, pose.y], [self.goal.x, self.goal.y]])
+        return True
 
     def _pruned_path(self, pose: Pose2D) -> np.ndarray:
         """The plan from the point nearest the robot on, with headings: the tangent along the
