@@ -77,6 +77,11 @@ log = logging.getLogger(__name__)
 #: Least time between two replans triggered by a blocked path or a failed plan (the 1 Hz replan still runs): a
 #: plan the local costmap disagrees with is redone at once, but not on every 50 ms control tick.
 BLOCKED_REPLAN_GAP = 0.5
+#: Past a person's keep-out by this much, m, the way out of it ends (``Navigator._way_out``).
+OUT_MARGIN = 0.1
+#: Turns off straight away from the nearest person, rad, tried in order for the way out: away
+#: first, then ever more sideways (a wall or a pot row behind the robot), never towards them.
+OUT_HEADINGS = (0.0, 0.5, -0.5, 1.0, -1.0, 1.5, -1.5)
 #: Room the global costmap takes in round the robot and the goal before a plan, m: the planner's
 #: 0.5 m goal tolerance and the robot's footprint fit inside it.
 COVER_MARGIN = 1.0
@@ -324,7 +329,7 @@ class Navigator(Waits, Recovery):
             grid = self.global_costmap.grid
             if self.keep_out is not None:
                 grid = self.keep_out(grid, (pose.x, pose.y))
-            self.path = self.planner.plan(grid, (pose.x, pose.y), (self.goal.x, self.goal.y))
+            self.path = self._plan(grid, pose)
         except StartBlocked:
             self._start_blocked = not self._only_people_block(pose)
             self._person_blocks = not self._start_blocked
@@ -368,6 +373,39 @@ class Navigator(Waits, Recovery):
             self._start_recovery(now, str(exc))
             return
         self.io.publish(self.smoother.smooth(Twist(vx, vy, wz), dt), now)
+
+    def _plan(self, grid: CostGrid, pose: Pose2D) -> np.ndarray:
+        """NavFn's plan to the goal; from inside a person's keep-out (no start on ``grid``), the
+        way out of it (``_way_out``)."""
+        try:
+            return self.planner.plan(grid, (pose.x, pose.y), (self.goal.x, self.goal.y))
+        except StartBlocked:
+            if not self._person_close():
+                raise
+        return self._way_out(pose)
+
+    def _way_out(self, pose: Pose2D) -> np.ndarray:
+        """The head of a plan on which no step comes nearer anyone than the robot stands now
+        (``PeopleNearby.way_out``), up to where it leaves every keep-out: towards the goal when
+        that way leads out, else straight away from the nearest person, or as near that as the
+        map allows (``OUT_HEADINGS``). Beyond it the next replan takes over, and a goal past the
+        person waits for them as before."""
+        grid = self.people.way_out(self.global_costmap.without_people(), pose.x, pose.y)
+        start = (pose.x, pose.y)
+        (a, _, keep_out), = sorted(self.people.in_map(), key=lambda s: math.hypot(s[0][0] - pose.x, s[0][1] - pose.y))[:1]
+        away = math.atan2(pose.y - a[1], pose.x - a[0])
+        ends = [(self.goal.x, self.goal.y)] + [
+            (a[0] + (keep_out + OUT_MARGIN) * math.cos(away + turn), a[1] + (keep_out + OUT_MARGIN) * math.sin(away + turn))
+            for turn in OUT_HEADINGS]
+        for end in ends:
+            try:
+                path = self.planner.plan(grid, start, end)
+            except PlanningError:
+                continue
+            inside = [self.people.in_keep_out(x, y) for x, y in path]
+            if False in inside:
+                return path[:max(inside.index(False), 1) + 1]
+        raise StartBlocked("start blocked: inside a person's keep-out, and no way out that keeps from them")
 
     def _straight_in(self, pose: Pose2D) -> bool:
         """Within ``nav.waits.FINISH`` of the goal with only people blocking the plan (their

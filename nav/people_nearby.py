@@ -20,7 +20,7 @@ from hw.interfaces import ZERO_TWIST, Twist
 from hw.odometry import Pose2D
 from hw.people import Person, PeopleSource
 from nav.config import NavConfig
-from nav.costmap.grid import CostGrid
+from nav.costmap.grid import LETHAL, CostGrid
 from nav.frames import transform_points
 from nav.refuge import TOUCH, refuge_heading  # TOUCH: also ``in_lane``'s margin within ``wait_clearance``
 from nav.walks import WALKING, walks_of
@@ -72,6 +72,22 @@ class PeopleNearby:
     def in_keep_out(self, x: float, y: float) -> bool:
         """Is the map point within a person's keep-out, their next steps included?"""
         return any(to_segment(np.array([x, y]), a, b) < r for a, b, r in self.in_map())
+
+    def way_out(self, free: CostGrid, x: float, y: float) -> CostGrid:
+        """``free`` (the planner's grid with the people's bodies taken out) with everyone's
+        keep-out laid back in, each shrunk to just inside the robot at map (``x``, ``y``): from
+        inside someone's keep-out, a plan whose every step keeps at least as far from everyone
+        as the robot stands now. A grower who stopped for the robot at arm's length waits for it
+        to leave their way; planning from inside their keep-out had no start, and the robot
+        stood there with them (safety.people seed 107, 470 s: a cart pusher and the robot
+        waited for each other for 400 s at the end of the north aisle)."""
+        data, geo = free.data.copy(), free.geometry
+        cx, cy = geo.centre_of(np.arange(geo.width)[None, :], np.arange(geo.height)[:, None])
+        here = np.array([x, y])
+        for a, b, keep_out in self.in_map():
+            reach = min(keep_out, to_segment(here, a, b) - free.resolution)
+            data[to_segments(cx, cy, a, b) < reach] = LETHAL
+        return CostGrid(data, free.resolution, free.origin_x, free.origin_y)
 
     def in_lane(self, odom: Pose2D) -> bool:
         """Is the robot (at ``odom``) in the lane of someone walking its way (module docstring)?"""
@@ -126,6 +142,14 @@ class PeopleNearby:
         t = self.layer.predict_time if reach is None else reach
         odom = np.array([[p.x, p.y, p.x + p.vx * t, p.y + p.vy * t] for p in people])
         return odom[:, :2], odom[:, 2:]
+
+
+def to_segments(x: np.ndarray, y: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distance from each point (``x``, ``y``, broadcast) to the segment ``a``-``b``."""
+    ab = b - a
+    n = float(ab @ ab)
+    t = np.zeros(np.broadcast(x, y).shape) if n < 1e-12 else np.clip(((x - a[0]) * ab[0] + (y - a[1]) * ab[1]) / n, 0.0, 1.0)
+    return np.hypot(x - a[0] - t * ab[0], y - a[1] - t * ab[1])
 
 
 def to_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
