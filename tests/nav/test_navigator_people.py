@@ -224,3 +224,19 @@ def test_a_robot_centimetres_from_its_goal_finishes_its_approach_while_the_walke
     far.nav.navigate_to(GOAL, 0.0, timeout=60.0)  # 4.6 m off its goal: steps out of the lane as before
     far.run(0.5)
     assert far.nav.waiting_for == LANE
+
+
+def test_a_robot_inside_a_persons_keep_out_plans_its_way_out_never_nearer_them():
+    """Seed 107, 470 s: a cart pusher stopped for the robot at arm's length, the robot inside
+    their keep-out had no start to plan from, and the two waited for each other for 400 s. The
+    way out is the head of a plan no step of which comes nearer them than the robot stands,
+    ending once it is out of every keep-out; the goal past them then waits as before."""
+    person = Person(18, START.x + 0.6, START.y, 0.0, 0.0, 0.2, 0.9)  # keep-out 0.72 m: the robot is inside
+    rig = Rig([person])
+    rig.nav.navigate_to(GOAL, 0.0, timeout=60.0)
+    rig.run(0.5)
+    assert rig.nav.active and rig.nav.waiting_for == "" and rig.published[-1][1] != ZERO_TWIST
+    gaps = np.hypot(rig.nav.path[:, 0] - person.x, rig.nav.path[:, 1] - person.y)
+    assert gaps.min() >= 0.6 - RES - 1e-9
+    keep_out = person.radius + CFG.costmap.global_costmap.people.clearance + CFG.costmap.robot_radius
+    assert gaps[-1] >= keep_out and (gaps[:-1] < keep_out).all()
