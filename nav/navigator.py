@@ -58,7 +58,7 @@ from hw.interfaces import ZERO_TWIST, LidarScan, Twist
 from hw.odometry import Pose2D
 from hw.people import PeopleSource, nobody
 from nav.config import NavConfig
-from nav.people_nearby import PeopleNearby
+from nav.people_nearby import NEAR_SPEED, PeopleNearby
 from nav.goal_state import State  # noqa: F401  (the goal's states, for callers too)
 from nav.recovery import Recovery
 from nav.waits import LANE, Waits  # noqa: F401  (LANE: the reason the goal holds, for callers)
@@ -82,6 +82,8 @@ OUT_MARGIN = 0.1
 #: Turns off straight away from the nearest person, rad, tried in order for the way out: away
 #: first, then ever more sideways (a wall or a pot row behind the robot), never towards them.
 OUT_HEADINGS = (0.0, 0.5, -0.5, 1.0, -1.0, 1.5, -1.5)
+#: How far along the way out a step out of a keep-out heads, m (``Navigator._leave``).
+LEAVE_AHEAD = 0.3
 #: Room the global costmap takes in round the robot and the goal before a plan, m: the planner's
 #: 0.5 m goal tolerance and the robot's footprint fit inside it.
 COVER_MARGIN = 1.0
@@ -368,7 +370,8 @@ class Navigator(Waits, Recovery):
                 return
             if self._person_close():  # a person's keep-out: out of their way, not a recovery
                 if not self._hold(now, dt, "a person close by", self.config.navigator.person_wait):
-                    self.io.publish(self._evade(), now)
+                    step = self._evade()
+                    self.io.publish(self._leave(pose) if step == ZERO_TWIST else step, now)
                 return
             self._start_recovery(now, str(exc))
             return
@@ -406,6 +409,21 @@ class Navigator(Waits, Recovery):
             if False in inside:
                 return path[:max(inside.index(False), 1) + 1]
         raise StartBlocked("start blocked: inside a person's keep-out, and no way out that keeps from them")
+
+    def _leave(self, pose: Pose2D) -> Twist:
+        """With no refuge in reach (``nav.refuge``) and MPPI finding no control from inside a
+        person's keep-out (the local costmap's disc round them takes the robot's own cell), a
+        step of ``NEAR_SPEED`` along the way out of it (``_way_out``), the people guard and the
+        collision monitor below binding it as any twist; zero with no way out. Standing there,
+        the robot and a grower who stopped for it waited for each other (safety.people seed
+        104, 736-880 s: a cart pusher at 0.3 m, the cross aisle a walker paces behind)."""
+        try:
+            path = self._way_out(pose)
+        except PlanningError:
+            return ZERO_TWIST
+        ahead = path[min(len(path) - 1, max(1, round(LEAVE_AHEAD / self.global_costmap.grid.resolution)))]
+        heading = math.atan2(ahead[1] - pose.y, ahead[0] - pose.x) - pose.yaw
+        return Twist(NEAR_SPEED * math.cos(heading), NEAR_SPEED * math.sin(heading), 0.0)
 
     def _straight_in(self, pose: Pose2D) -> bool:
         """Within ``nav.waits.FINISH`` of the goal with only people blocking the plan (their
