@@ -15,6 +15,7 @@ from hw.interfaces import ZERO_TWIST, LidarScan, Twist
 from hw.odometry import Pose2D
 from hw.people import Person
 from nav.config import NavConfig
+from nav.costmap.grid import LETHAL
 from nav.costmap.layered import global_costmap
 from nav.localisation import OdometryOnly
 from nav.navigator import LANE, Navigator, Sources, State
@@ -240,3 +241,23 @@ def test_a_robot_inside_a_persons_keep_out_plans_its_way_out_never_nearer_them()
     assert gaps.min() >= 0.6 - RES - 1e-9
     keep_out = person.radius + CFG.costmap.global_costmap.people.clearance + CFG.costmap.robot_radius
     assert gaps[-1] >= keep_out and (gaps[:-1] < keep_out).all()
+
+
+def test_with_no_refuge_in_reach_the_robot_steps_along_the_way_out_of_a_keep_out():
+    """Seed 104, 736-880 s: MPPI found no control inside a cart pusher's keep-out, no refuge
+    was in reach, and the robot stood while the pusher, stopped for it, waited too. With none,
+    it steps at 0.15 m/s along the way out, away from them; with no way out it stands."""
+    person = Person(19, START.x + 0.6, START.y, 0.0, 0.0, 0.2, 0.9)
+    rig = Rig([person], controller=FakeController(fail=True))
+    walled = dummy_costmap(60, 60, value=LETHAL, origin=(START.x - 1.5, START.y - 1.5))
+    walled.data[28:33, 28:33] = 0  # the refuge's view: nowhere to go but where it stands
+    rig.local.grid = walled
+    rig.nav.navigate_to(GOAL, 0.0, timeout=60.0)
+    rig.run(1.0)
+    steps = [tw for _, tw in rig.published[1:]]
+    assert steps and all(math.hypot(tw.vx, tw.vy) == pytest.approx(0.15) for tw in steps)
+    assert all(tw.vx < 0.5 * 0.15 and tw.vy < 0 for tw in steps)  # round them (+x) by the aisle south, not at them
+    rig.glob.set_static(np.full_like(one_aisle(), 100), RES, 0.0, 0.0)  # walls all round: no way out
+    rig.published.clear()
+    rig.run(3.0, t0=1.05)
+    assert rig.published and all(tw == ZERO_TWIST for _, tw in rig.published)
