@@ -178,6 +178,8 @@ class Navigator(Waits, Recovery):
         self.waiting_for = ""
         """Why the goal waits for people now ('' while it does not)."""
         self._person_blocks = self._start_blocked = False
+        self._way_out_at: tuple[float, np.ndarray | None] = (-math.inf, None)
+        """When ``_leave`` last planned its way out of a keep-out, and that way (None: none)."""
         self.keep_out: Callable[[CostGrid, tuple[float, float]], CostGrid] | None = None
         """Where a drive may not go now, as a filter of the global costmap's grid from where the
         robot stands (a fleet's aisles held by other robots, ``mission.patrol.aisle_gate``);
@@ -371,7 +373,7 @@ class Navigator(Waits, Recovery):
             if self._person_close():  # a person's keep-out: out of their way, not a recovery
                 if not self._hold(now, dt, "a person close by", self.config.navigator.person_wait):
                     step = self._evade()
-                    self.io.publish(self._leave(pose) if step == ZERO_TWIST else step, now)
+                    self.io.publish(self._leave(pose, now) if step == ZERO_TWIST else step, now)
                 return
             self._start_recovery(now, str(exc))
             return
@@ -395,7 +397,7 @@ class Navigator(Waits, Recovery):
         person waits for them as before."""
         grid = self.people.way_out(self.global_costmap.without_people(), pose.x, pose.y)
         start = (pose.x, pose.y)
-        (a, _, keep_out), = sorted(self.people.in_map(), key=lambda s: math.hypot(s[0][0] - pose.x, s[0][1] - pose.y))[:1]
+        a, _, keep_out = min(self.people.in_map(), key=lambda s: math.hypot(s[0][0] - pose.x, s[0][1] - pose.y))
         away = math.atan2(pose.y - a[1], pose.x - a[0])
         ends = [(self.goal.x, self.goal.y)] + [
             (a[0] + (keep_out + OUT_MARGIN) * math.cos(away + turn), a[1] + (keep_out + OUT_MARGIN) * math.sin(away + turn))
@@ -410,16 +412,21 @@ class Navigator(Waits, Recovery):
                 return path[:max(inside.index(False), 1) + 1]
         raise StartBlocked("start blocked: inside a person's keep-out, and no way out that keeps from them")
 
-    def _leave(self, pose: Pose2D) -> Twist:
+    def _leave(self, pose: Pose2D, now: float) -> Twist:
         """With no refuge in reach (``nav.refuge``) and MPPI finding no control from inside a
         person's keep-out (the local costmap's disc round them takes the robot's own cell), a
         step of ``NEAR_SPEED`` along the way out of it (``_way_out``), the people guard and the
         collision monitor below binding it as any twist; zero with no way out. Standing there,
         the robot and a grower who stopped for it waited for each other (safety.people seed
-        104, 736-880 s: a cart pusher at 0.3 m, the cross aisle a walker paces behind)."""
-        try:
-            path = self._way_out(pose)
-        except PlanningError:
+        104, 736-880 s: a cart pusher at 0.3 m, the cross aisle a walker paces behind). The way
+        is planned afresh at most every ``BLOCKED_REPLAN_GAP``, not on every control tick."""
+        if now - self._way_out_at[0] >= BLOCKED_REPLAN_GAP:
+            try:
+                self._way_out_at = (now, self._way_out(pose))
+            except PlanningError:
+                self._way_out_at = (now, None)
+        path = self._way_out_at[1]
+        if path is None:
             return ZERO_TWIST
         ahead = path[min(len(path) - 1, max(1, round(LEAVE_AHEAD / self.global_costmap.grid.resolution)))]
         heading = math.atan2(ahead[1] - pose.y, ahead[0] - pose.x) - pose.yaw

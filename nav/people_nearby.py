@@ -154,7 +154,4 @@ def to_segments(x: np.ndarray, y: np.ndarray, a: np.ndarray, b: np.ndarray) -> n
 
 def to_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
     """Distance from ``p`` to the segment ``a``-``b``."""
-    ab = b - a
-    n = float(ab @ ab)
-    t = 0.0 if n < 1e-12 else min(max(float((p - a) @ ab) / n, 0.0), 1.0)
-    return float(np.hypot(*(p - a - t * ab)))
+    return float(to_segments(p[0], p[1], a, b))

@@ -74,8 +74,8 @@ class Waits:
         """Hold still while a person stands in the only way or on the goal (module docstring).
         True while waiting (zero twist published) or when the wait ran out."""
         why = ""
-        if self._finishing():
-            pass  # ``FINISH``: it finishes, the guard binding its last centimetres
+        if self._finishing():  # ``FINISH``: it finishes, the guard binding its last centimetres
+            pass
         elif self._person_blocks:
             why = f"{self._whom()} in the only way"
         elif self.people.in_keep_out(self.goal.x, self.goal.y):
