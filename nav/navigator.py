@@ -41,7 +41,11 @@ out of the way (``nav.people_nearby``) to the nearest place out of everyone's wa
 waits at a distance, and a grower who stopped for it gets room to come by; a grower the
 collision monitor holds it for is stepped back from the same way, not pressed on. A robot in the
 lane of someone walking its way (their next ``lane_time`` s) steps out while they are metres
-off, faster than it may within 1 m of them. A robot boxed in (every cell round it taken, the
+off, faster than it may within 1 m of them. A robot inside someone's keep-out (a grower
+who stopped for it at arm's length) plans its way out, never nearer anyone than it stands, and
+takes it at 0.15 m/s where MPPI finds no control and no refuge is in reach: standing there, it
+and the grower waited for each other. Within ``nav.waits.FINISH`` of its goal it finishes its
+approach whoever is near, the people guard binding the last centimetres. A robot boxed in (every cell round it taken, the
 planner's ``StartBlocked``: someone against it) waits ``blocked_wait`` like a hold instead of
 failing goal after goal, and a failed plan is retried at most every ``BLOCKED_REPLAN_GAP``.
 """
