@@ -389,7 +389,7 @@ class Navigator(Waits, Recovery):
         try:
             return self.planner.plan(grid, (pose.x, pose.y), (self.goal.x, self.goal.y))
         except StartBlocked:
-            if not self._person_close():
+            if not self.people.in_a_walkers_keep_out(pose.x, pose.y):
                 raise
         return self._way_out(pose)
 
@@ -398,8 +398,14 @@ class Navigator(Waits, Recovery):
         (``PeopleNearby.way_out``), up to where it leaves every keep-out: towards the goal when
         that way leads out, else straight away from the nearest person, or as near that as the
         map allows (``OUT_HEADINGS``). Beyond it the next replan takes over, and a goal past the
-        person waits for them as before."""
-        grid = self.people.way_out(self.global_costmap.without_people(), pose.x, pose.y)
+        person waits for them as before. Only out of the keep-out of someone seen to walk
+        (``PeopleNearby.in_a_walkers_keep_out``): anyone else is waited for as before."""
+        if not self.people.in_a_walkers_keep_out(pose.x, pose.y):
+            raise StartBlocked("start blocked: inside the keep-out of someone who has not walked")
+        grid = self.global_costmap.without_people()
+        if self.keep_out is not None:  # a fleet's aisles held by other robots stay shut on the way out
+            grid = self.keep_out(grid, (pose.x, pose.y))
+        grid = self.people.way_out(grid, pose.x, pose.y)
         start = (pose.x, pose.y)
         a, _, keep_out = min(self.people.in_map(), key=lambda s: math.hypot(s[0][0] - pose.x, s[0][1] - pose.y))
         away = math.atan2(pose.y - a[1], pose.x - a[0])

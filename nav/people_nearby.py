@@ -59,9 +59,10 @@ class PeopleNearby:
         """Centre to centre, m: ``clearance`` (the layer's when None) body to body."""
         return person.radius + (self.layer.clearance if clearance is None else clearance) + self.robot_radius
 
-    def in_map(self) -> list[tuple[np.ndarray, np.ndarray, float]]:
-        """(where, where in ``predict_time``, keep_out) of every person counted, map frame."""
-        people = self.counted()
+    def in_map(self, people: list[Person] | None = None) -> list[tuple[np.ndarray, np.ndarray, float]]:
+        """(where, where in ``predict_time``, keep_out) of every person counted (or of
+        ``people``), map frame."""
+        people = self.counted() if people is None else people
         if not people:
             return []
         now, then = self._segments(people)
@@ -69,9 +70,19 @@ class PeopleNearby:
         now, then = transform_points(m2o, now), transform_points(m2o, then)
         return [(a, b, self.keep_out(p)) for a, b, p in zip(now, then, people)]
 
-    def in_keep_out(self, x: float, y: float) -> bool:
-        """Is the map point within a person's keep-out, their next steps included?"""
-        return any(to_segment(np.array([x, y]), a, b) < r for a, b, r in self.in_map())
+    def in_keep_out(self, x: float, y: float, ahead: bool = True) -> bool:
+        """Is the map point within a person's keep-out, their next steps included (``ahead``) or
+        where they are now only?"""
+        return any(to_segment(np.array([x, y]), a, b if ahead else a) < r for a, b, r in self.in_map())
+
+    def in_a_walkers_keep_out(self, x: float, y: float) -> bool:
+        """Is the map point within the keep-out of someone seen to walk (``Walks.walked``)? A
+        grower who stopped for the robot walks on once it is out of their way; a worker who
+        stands, or a crate on a pot's approach pose taken for a person, does not, and is waited
+        for (``mission.patrol.aside`` looks from beside a taken pose)."""
+        here = np.array([x, y])
+        walkers = [p for p in self.counted() if self.people.walked(p)]
+        return any(to_segment(here, a, b) < r for a, b, r in self.in_map(walkers))
 
     def way_out(self, free: CostGrid, x: float, y: float) -> CostGrid:
         """``free`` (the planner's grid with the people's bodies taken out) with everyone's

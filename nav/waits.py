@@ -23,8 +23,9 @@ LANE = "out of a walker's way"
 #: The same for a track on another robot of the fleet (``_whom``).
 ROBOT_LANE = "out of a robot's way"
 #: Nearer its goal than this, m, the robot finishes its approach (the last centimetres and the
-#: turn onto the goal's heading) rather than step out of a walker's lane or wait for someone on
-#: its goal or in the only way: it stands there next, still, as it would stepping aside, and the
+#: turn onto the goal's heading) rather than step out of a walker's lane or wait for someone in
+#: the only way or walking onto its goal (someone *on* it, or a crate taken for a person, is
+#: still waited for, ``mission.patrol.aside`` then looks from beside it): it stands there next, still, as it would stepping aside, and the
 #: people guard (``hw.people_guard``: 0.15 m/s within 1 m, nothing towards anyone within 0.5 m,
 #: still within 0.25 m) and the collision monitor below it bind that last motion as any other.
 #: safety.people seed 1, 105 s: 7 cm from P32's approach pose in a 0.8 m aisle a cart pusher
@@ -73,12 +74,10 @@ class Waits:
     def _waiting_for_people(self, now: float, dt: float) -> bool:
         """Hold still while a person stands in the only way or on the goal (module docstring).
         True while waiting (zero twist published) or when the wait ran out."""
-        why = ""
-        if self._finishing():  # ``FINISH``: it finishes, the guard binding its last centimetres
-            pass
-        elif self._person_blocks:
+        why, finishing = "", self._finishing()  # ``FINISH``: only someone on the goal now holds it
+        if self._person_blocks and not finishing:
             why = f"{self._whom()} in the only way"
-        elif self.people.in_keep_out(self.goal.x, self.goal.y):
+        elif self.people.in_keep_out(self.goal.x, self.goal.y, ahead=not finishing):
             why = f"{self._whom()} at the goal"
         if why != self.waiting_for:
             if why:

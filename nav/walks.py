@@ -164,6 +164,10 @@ class Walks:
         walk = self._walk(person)
         return walk.start[0] - person.x, walk.start[1] - person.y
 
+    def walked(self, person: Person) -> bool:
+        """Has ``person`` been seen to walk (``HEADING_WALKED``), now or before a pause?"""
+        return self._walk(person) is not None
+
     def _walk(self, person: Person) -> Stride | None:
         """``person``'s last stride if they were seen to walk, else None."""
         walk = self._last.get(person.id)

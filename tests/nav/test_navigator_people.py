@@ -7,6 +7,7 @@ fails 'no path' as quickly as before."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -20,6 +21,7 @@ from nav.costmap.layered import global_costmap
 from nav.localisation import OdometryOnly
 from nav.navigator import LANE, Navigator, Sources, State
 from nav.planner import NavfnPlanner
+from nav.walks import Walks
 from tests.nav.builders import dummy_costmap
 from tests.nav.test_navigator import FakeController, FakeCostmap
 
@@ -59,8 +61,9 @@ class Rig:
         self.published: list[tuple[float, Twist]] = []
         self.t = 0.0
         self.held = held
+        walks = Walks(lambda: self.people, lambda: self.t)  # as the runtime's navigation reads people
         io = Sources(lambda: START, lambda: ZERO_TWIST, self.scan, lambda tw, now: self.published.append((now, tw)),
-                     lambda: False, lambda: self.held, lambda: self.people)
+                     lambda: False, lambda: self.held, walks)
         self.glob = global_costmap(CFG.costmap, lambda: self.people)
         self.glob.set_static(one_aisle(closed), RES, 0.0, 0.0)
         self.local = LocalCostmap()
@@ -81,12 +84,21 @@ class Rig:
         return t
 
 
+def walked_up(rig: Rig, person: Person, metres: float = 0.6) -> None:
+    """``person`` walks up to where they stand along +x at 1 m/s (the rig's clock from 0 s),
+    then stands: a grower who stopped for the robot, seen to walk."""
+    for k in range(round(metres / 0.05), 0, -1):
+        rig.t = -0.05 * k
+        rig.people[:] = [replace(person, x=person.x + 0.05 * k, vx=-1.0)]
+        rig.nav.people.counted()
+    rig.people[:] = [person]
+
+
 def test_a_person_in_the_only_aisle_is_waited_for_then_the_robot_drives_on():
     rig = Rig([IN_THE_AISLE])
     rig.nav.navigate_to(GOAL, 0.0, timeout=8.0)
     rig.run(12.0)  # past the timeout and the progress check's 10 s
-    assert rig.nav.active and rig.nav.waiting_for == "a person in the only way"
-    assert all(tw == ZERO_TWIST for _, tw in rig.published)
+    assert rig.nav.active and rig.nav.waiting_for == "a person in the only way" and rig.nav.path is None
     rig.people.clear()  # they step aside
     rig.run(14.0, t0=12.05)
     assert rig.nav.active and rig.nav.waiting_for == ""
@@ -234,6 +246,7 @@ def test_a_robot_inside_a_persons_keep_out_plans_its_way_out_never_nearer_them()
     ending once it is out of every keep-out; the goal past them then waits as before."""
     person = Person(18, START.x + 0.6, START.y, 0.0, 0.0, 0.2, 0.9)  # keep-out 0.72 m: the robot is inside
     rig = Rig([person])
+    walked_up(rig, person)
     rig.nav.navigate_to(GOAL, 0.0, timeout=60.0)
     rig.run(0.5)
     assert rig.nav.active and rig.nav.waiting_for == "" and rig.published[-1][1] != ZERO_TWIST
@@ -249,6 +262,7 @@ def test_with_no_refuge_in_reach_the_robot_steps_along_the_way_out_of_a_keep_out
     it steps at 0.15 m/s along the way out, away from them; with no way out it stands."""
     person = Person(19, START.x + 0.6, START.y, 0.0, 0.0, 0.2, 0.9)
     rig = Rig([person], controller=FakeController(fail=True))
+    walked_up(rig, person)
     walled = dummy_costmap(60, 60, value=LETHAL, origin=(START.x - 1.5, START.y - 1.5))
     walled.data[28:33, 28:33] = 0  # the refuge's view: nowhere to go but where it stands
     rig.local.grid = walled
@@ -262,3 +276,13 @@ def test_with_no_refuge_in_reach_the_robot_steps_along_the_way_out_of_a_keep_out
     rig.run(3.0, t0=1.05)
     later = [tw for t, tw in rig.published if t >= 1.05 + 0.5]  # the way out is planned afresh every 0.5 s
     assert later and all(tw == ZERO_TWIST for tw in later)
+
+
+def test_inside_the_keep_out_of_someone_never_seen_to_walk_the_robot_waits_as_before():
+    """A worker who stands, or a crate on an approach pose taken for a person, does not walk on
+    once the robot leaves: no way out is planned round them (test_blocked_approach: the crate's
+    pot is then inspected from beside it)."""
+    rig = Rig([Person(20, START.x + 0.6, START.y, 0.0, 0.0, 0.2, 0.9)])
+    rig.nav.navigate_to(GOAL, 0.0, timeout=60.0)
+    rig.run(0.5)
+    assert rig.nav.active and rig.nav.waiting_for == "a person in the only way" and rig.nav.path is None
