@@ -62,10 +62,11 @@ from hw.interfaces import ZERO_TWIST, LidarScan, Twist
 from hw.odometry import Pose2D
 from hw.people import PeopleSource, nobody
 from nav.config import NavConfig
-from nav.people_nearby import NEAR_SPEED, PeopleNearby
+from nav.people_nearby import PeopleNearby
 from nav.goal_state import State  # noqa: F401  (the goal's states, for callers too)
 from nav.recovery import Recovery
 from nav.waits import LANE, Waits  # noqa: F401  (LANE: the reason the goal holds, for callers)
+from nav.way_out import WayOut
 from nav.costmap.grid import INSCRIBED, UNKNOWN, CostGrid
 from nav.frames import compose, distance, inverse, transform_path, transform_points
 from nav.goal_checker import GoalChecker
@@ -81,13 +82,6 @@ log = logging.getLogger(__name__)
 #: Least time between two replans triggered by a blocked path or a failed plan (the 1 Hz replan still runs): a
 #: plan the local costmap disagrees with is redone at once, but not on every 50 ms control tick.
 BLOCKED_REPLAN_GAP = 0.5
-#: Past a person's keep-out by this much, m, the way out of it ends (``Navigator._way_out``).
-OUT_MARGIN = 0.1
-#: Turns off straight away from the nearest person, rad, tried in order for the way out: away
-#: first, then ever more sideways (a wall or a pot row behind the robot), never towards them.
-OUT_HEADINGS = (0.0, 0.5, -0.5, 1.0, -1.0, 1.5, -1.5)
-#: How far along the way out a step out of a keep-out heads, m (``Navigator._leave``).
-LEAVE_AHEAD = 0.3
 #: Room the global costmap takes in round the robot and the goal before a plan, m: the planner's
 #: 0.5 m goal tolerance and the robot's footprint fit inside it.
 COVER_MARGIN = 1.0
@@ -145,7 +139,7 @@ class Sources:
     """The person tracker's people, ``odom`` frame (the costmaps' person layers read the same)."""
 
 
-class Navigator(Waits, Recovery):
+class Navigator(Waits, WayOut, Recovery):
     def __init__(self, config: NavConfig, sources: Sources, localisation: Localisation,
                  local_costmap: Costmap, global_costmap: Costmap, planner: Planner, controller: Controller,
                  readiness: Readiness | None = None):
@@ -382,74 +376,6 @@ class Navigator(Waits, Recovery):
             self._start_recovery(now, str(exc))
             return
         self.io.publish(self.smoother.smooth(Twist(vx, vy, wz), dt), now)
-
-    def _plan(self, grid: CostGrid, pose: Pose2D) -> np.ndarray:
-        """NavFn's plan to the goal; from inside a person's keep-out (no start on ``grid``), the
-        way out of it (``_way_out``)."""
-        try:
-            return self.planner.plan(grid, (pose.x, pose.y), (self.goal.x, self.goal.y))
-        except StartBlocked:
-            if not self.people.in_a_walkers_keep_out(pose.x, pose.y):
-                raise
-        return self._way_out(pose)
-
-    def _way_out(self, pose: Pose2D) -> np.ndarray:
-        """The head of a plan on which no step comes nearer anyone than the robot stands now
-        (``PeopleNearby.way_out``), up to where it leaves every keep-out: towards the goal when
-        that way leads out, else straight away from the nearest person, or as near that as the
-        map allows (``OUT_HEADINGS``). Beyond it the next replan takes over, and a goal past the
-        person waits for them as before. Only out of the keep-out of someone seen to walk
-        (``PeopleNearby.in_a_walkers_keep_out``): anyone else is waited for as before."""
-        if not self.people.in_a_walkers_keep_out(pose.x, pose.y):
-            raise StartBlocked("start blocked: inside the keep-out of someone who has not walked")
-        grid = self.global_costmap.without_people()
-        if self.keep_out is not None:  # a fleet's aisles held by other robots stay shut on the way out
-            grid = self.keep_out(grid, (pose.x, pose.y))
-        grid = self.people.way_out(grid, pose.x, pose.y)
-        start = (pose.x, pose.y)
-        a, _, keep_out = min(self.people.in_map(), key=lambda s: math.hypot(s[0][0] - pose.x, s[0][1] - pose.y))
-        away = math.atan2(pose.y - a[1], pose.x - a[0])
-        ends = [(self.goal.x, self.goal.y)] + [
-            (a[0] + (keep_out + OUT_MARGIN) * math.cos(away + turn), a[1] + (keep_out + OUT_MARGIN) * math.sin(away + turn))
-            for turn in OUT_HEADINGS]
-        for end in ends:
-            try:
-                path = self.planner.plan(grid, start, end)
-            except PlanningError:
-                continue
-            inside = [self.people.in_keep_out(x, y) for x, y in path]
-            if False in inside:
-                return path[:max(inside.index(False), 1) + 1]
-        raise StartBlocked("start blocked: inside a person's keep-out, and no way out that keeps from them")
-
-    def _leave(self, pose: Pose2D, now: float) -> Twist:
-        """With no refuge in reach (``nav.refuge``) and MPPI finding no control from inside a
-        person's keep-out (the local costmap's disc round them takes the robot's own cell), a
-        step of ``NEAR_SPEED`` along the way out of it (``_way_out``), the people guard and the
-        collision monitor below binding it as any twist; zero with no way out. Standing there,
-        the robot and a grower who stopped for it waited for each other (safety.people seed
-        104, 736-880 s: a cart pusher at 0.3 m, the cross aisle a walker paces behind). The way
-        is planned afresh at most every ``BLOCKED_REPLAN_GAP``, not on every control tick."""
-        if now - self._way_out_at[0] >= BLOCKED_REPLAN_GAP:
-            try:
-                self._way_out_at = (now, self._way_out(pose))
-            except PlanningError:
-                self._way_out_at = (now, None)
-        path = self._way_out_at[1]
-        if path is None:
-            return ZERO_TWIST
-        ahead = path[min(len(path) - 1, max(1, round(LEAVE_AHEAD / self.global_costmap.grid.resolution)))]
-        heading = math.atan2(ahead[1] - pose.y, ahead[0] - pose.x) - pose.yaw
-        return Twist(NEAR_SPEED * math.cos(heading), NEAR_SPEED * math.sin(heading), 0.0)
-
-    def _straight_in(self, pose: Pose2D) -> bool:
-        """Within ``nav.waits.FINISH`` of the goal with only people blocking the plan (their
-        keep-outs, a paused walker's whole walk, cover it): the rest of the way is the straight
-        line in, for MPPI and the guard to drive. True when it is."""
-        if not (self._person_blocks and self._finishing()):
-            return False
-        self.path = np.array([[pose.x, pose.y], [self.goal.x, self.goal.y]])
-        return True
 
     def _pruned_path(self, pose: Pose2D) -> np.ndarray:
         """The plan from the point nearest the robot on, with headings: the tangent along the

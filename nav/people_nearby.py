@@ -70,19 +70,25 @@ class PeopleNearby:
         now, then = transform_points(m2o, now), transform_points(m2o, then)
         return [(a, b, self.keep_out(p)) for a, b, p in zip(now, then, people)]
 
-    def in_keep_out(self, x: float, y: float, ahead: bool = True) -> bool:
-        """Is the map point within a person's keep-out, their next steps included (``ahead``) or
-        where they are now only?"""
-        return any(to_segment(np.array([x, y]), a, b if ahead else a) < r for a, b, r in self.in_map())
+    def in_keep_out(self, x: float, y: float, ahead: bool = True, people: list[Person] | None = None) -> bool:
+        """Is the map point within a person's keep-out (of everyone counted, or of ``people``),
+        their next steps included (``ahead``) or where they are now only?"""
+        return any(to_segment(np.array([x, y]), a, b if ahead else a) < r for a, b, r in self.in_map(people))
 
     def in_a_walkers_keep_out(self, x: float, y: float) -> bool:
         """Is the map point within the keep-out of someone seen to walk (``Walks.walked``)? A
         grower who stopped for the robot walks on once it is out of their way; a worker who
         stands, or a crate on a pot's approach pose taken for a person, does not, and is waited
         for (``mission.patrol.aside`` looks from beside a taken pose)."""
-        here = np.array([x, y])
-        walkers = [p for p in self.counted() if self.people.walked(p)]
-        return any(to_segment(here, a, b) < r for a, b, r in self.in_map(walkers))
+        return self.in_keep_out(x, y, people=[p for p in self.counted() if self.people.walked(p)])
+
+    def inside(self, xy: np.ndarray) -> np.ndarray:
+        """Which of the (N, 2) map points lie within anyone's keep-out, their next steps
+        included: ``in_keep_out`` for a whole path at once (the people read once)."""
+        out = np.zeros(len(xy), dtype=bool)
+        for a, b, r in self.in_map():
+            out |= to_segments(xy[:, 0], xy[:, 1], a, b) < r
+        return out
 
     def way_out(self, free: CostGrid, x: float, y: float) -> CostGrid:
         """``free`` (the planner's grid with the people's bodies taken out) with everyone's

@@ -12,6 +12,8 @@ from __future__ import annotations
 import logging
 import math
 
+import numpy as np
+
 from hw.interfaces import ZERO_TWIST, Twist
 from hw.odometry import Pose2D
 from nav.planner import PlanningError
@@ -102,6 +104,15 @@ class Waits:
         self.smoother.reset()
         if not self._hold(now, dt, why, self.config.navigator.person_wait):
             self.io.publish(self._evade(reach=self.people.layer.lane_time), now)
+        return True
+
+    def _straight_in(self, pose: Pose2D) -> bool:
+        """Within ``FINISH`` of the goal with only people blocking the plan (their keep-outs, a
+        paused walker's whole walk, cover it): the rest of the way is the straight line in, for
+        MPPI and the guard to drive. True when it is."""
+        if not (self._person_blocks and self._finishing()):
+            return False
+        self.path = np.array([[pose.x, pose.y], [self.goal.x, self.goal.y]])
         return True
 
     def _finishing(self) -> bool:
