@@ -57,6 +57,7 @@ from hw.people_guard import PeopleGuard
 from nav.frames import compose, inverse, transform_points
 from nav.grid_geometry import GridGeometry, paste
 from nav.occupancy import FREE, FREE_MAX, OCCUPIED_MIN, UNKNOWN, OccupancyMap
+from mission.runtime.stood_at_start import RANGE, StoodAtStart, clear_round
 from nav.structure import long_components
 from nav.walks import STRIDING
 from perception.people.config import PeopleConfig
@@ -153,6 +154,11 @@ class People:
         """The people guard on the base (``attach_people``)."""
         self.scene: StaticScene | None = None
         """What the greenhouse explains, frozen at the first map once the pots are known."""
+        self.bare: StaticScene | None = None
+        """The scene without the first map: the structure and the known pots."""
+        self._long: np.ndarray | None = None
+        """The live map's structure, on its grid (``nav.structure``)."""
+        self.stood = StoodAtStart()
         self._pots: np.ndarray | None = None
         self._pot_radius = 0.0
         self._stamp: float | None = None
@@ -173,7 +179,8 @@ class People:
         tracks that have walked), for the report."""
         self._pots = np.asarray(pots_xy, dtype=float).reshape(-1, 2)
         self._pot_radius = pot_radius
-        self.scene, self._first, self._live, self._floor = None, None, None, None
+        self.scene, self.bare, self._first, self._live, self._floor = None, None, None, None, None
+        self.stood = StoodAtStart()
         return self.confident
 
     @property
@@ -214,10 +221,9 @@ class People:
             self._floor = floor_seen(live, self._floor, None if self._live is None else self._live.geometry)
             self._live = live
             self._left |= self._first.occupied() & seen_free(live, self._first.geometry, self.config.margin)
-            structure = without(live, self._tracked_in_map(), self.config.margin, self._floor)
-            cells = Cells(live.geometry, first_and_structure(self._first, live, self.config.max_extent, self._left,
-                                                             structure=structure))
-            self.scene = StaticScene(cells, self._pots, self._pot_radius, self.config.margin)
+            self._long = long_components(without(live, self._tracked_in_map(), self.config.margin, self._floor),
+                                         self.config.max_extent)
+            self._freeze()
         if self.scene is None:
             return  # no map yet: a pot unexplained would be a person
         scan = self.scan()
@@ -227,7 +233,11 @@ class People:
         odom = self.odom_pose()
         lidar = compose(odom, self.mount)
         points = odom_points(scan.angles, scan.ranges, (lidar.x, lidar.y, lidar.yaw))
-        explained = self.scene.explained(transform_points(self.map_to_odom(), points))
+        m2o = self.map_to_odom()
+        in_map = transform_points(m2o, points)
+        explained = self.scene.explained(in_map)
+        if self.stood.due() and self._stood_at_start(scan.stamp, points, in_map, explained, lidar, m2o):
+            explained = self.scene.explained(in_map)
         shown = {p.id: (p.x, p.y) for p in self.confident()}
         raw = self.tracker.update(scan.stamp, points, (odom.x, odom.y, odom.yaw), explained)
         self.tracks = self._carry(scan.stamp, raw, shown)
@@ -245,6 +255,38 @@ class People:
         self._shown = tuple(p for p in self.tracks
                             if not any(math.hypot(x - p.x, y - p.y) <= ROBOT_REACH for x, y in robots)
                             and (p.id in self.walked or p.id in self.inherited or self.legged(p.id)))
+
+    def _freeze(self) -> None:
+        """The scene from the live map's structure (``_long``) and the first map's cells still
+        kept (not ``_left``); ``bare`` the same without the first map."""
+        live, c = self._live, self.config
+        self.scene = StaticScene(Cells(live.geometry, self._long | kept(self._first, live, self._left)),
+                                 self._pots, self._pot_radius, c.margin)
+        self.bare = StaticScene(Cells(live.geometry, self._long), self._pots, self._pot_radius, c.margin)
+
+    def _stood_at_start(self, stamp: float, points: np.ndarray, in_map: np.ndarray, explained: np.ndarray,
+                        lidar: Pose2D, m2o: Pose2D) -> bool:
+        """The leg pass on the returns only the first map explains (``mission.runtime.stood_at_start``);
+        True when someone was found standing there and the scene refrozen without them."""
+        bare = self.bare.explained(in_map)
+        only_first = explained & ~bare
+        near = np.hypot(points[:, 0] - lidar.x, points[:, 1] - lidar.y) <= RANGE
+        if not (only_first & near).any():
+            return False
+        shapes = find_legs(points, np.array([lidar.x, lidar.y]), bare, self.config)
+        if not len(shapes.pairs):
+            return False
+        pairs = transform_points(m2o, shapes.pairs)
+        seen = in_map[only_first]
+        d = np.hypot(*(pairs[:, None, :] - seen[None, :, :]).transpose(2, 0, 1)).min(axis=1)
+        spots = self.stood.found(stamp, pairs[d <= LEGS_NEAR])
+        if not spots:
+            return False
+        clear_round(self._left, self._first.geometry, spots)
+        log.info("someone standing since the first map at %s: a person, not the greenhouse",
+                 ", ".join(f"({x:.1f}, {y:.1f})" for x, y in spots))
+        self._freeze()
+        return True
 
     def _tracked_in_map(self) -> list[tuple[float, float, float]]:
         """Every track now, shown a person or not yet: (x, y, radius), map frame. Not only the
@@ -368,12 +410,18 @@ class Cells:
 
 def first_and_structure(first: OccupancyMap, live: OccupancyMap, max_extent: float, left: np.ndarray | None = None,
                         gap: float = 0.1, structure: OccupancyMap | None = None) -> np.ndarray:
+    """On ``live``'s grid: the first map's cells ``kept``, and the structure (``nav.structure``:
+    components whose bounding box's diagonal exceeds ``max_extent`` once gaps up to ``gap`` are
+    closed) of ``structure``, a map on ``live``'s grid (``live`` itself by default; the tracks
+    cut out of it, ``without``)."""
+    return long_components(structure or live, max_extent, gap) | kept(first, live, left)
+
+
+def kept(first: OccupancyMap, live: OccupancyMap, left: np.ndarray | None = None) -> np.ndarray:
     """On ``live``'s grid: the first map's occupied cells but those ``left`` (on the first map's
-    grid: seen free since), and the structure (``nav.structure``: components whose bounding box's
-    diagonal exceeds ``max_extent`` once gaps up to ``gap`` are closed) of ``structure``, a map on
-    ``live``'s grid (``live`` itself by default; the tracks cut out of it, ``without``)."""
-    kept = first.occupied() if left is None else first.occupied() & ~left
-    return long_components(structure or live, max_extent, gap) | paste(kept, first.geometry, live.geometry, False)
+    grid: seen free since, or someone found standing there, ``mission.runtime.stood_at_start``)."""
+    cells = first.occupied() if left is None else first.occupied() & ~left
+    return paste(cells, first.geometry, live.geometry, False)
 
 
 def floor_seen(live: OccupancyMap, before: np.ndarray | None, on: GridGeometry | None) -> np.ndarray:
