@@ -11,7 +11,9 @@ import numpy as np
 
 from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
-from mission.runtime.people import LEG_SCANS, LEGS_SEEN, People, first_and_structure, floor_seen, without
+from mission.runtime.people import CUT, LEG_SCANS, LEGS_SEEN, LOST_KEEP, People, first_and_structure, floor_seen, without
+from mission.runtime.stood_at_start import EVERY, FORGET, REACH, SEEN, StoodAtStart, clear_round
+from nav.grid_geometry import GridGeometry
 from nav.frames import compose
 from nav.occupancy import OccupancyMap
 from perception.people.config import PeopleConfig
@@ -214,6 +216,41 @@ def test_someone_standing_in_the_first_map_is_not_explained_by_it_once_seen_gone
     assert not rig.people.scene.explained(rig.points)[legs].any()
 
 
+def test_someone_standing_in_the_first_map_all_along_is_found_by_their_legs_and_a_crate_there_never():
+    """A grower who stood on their spot when the first map was made, and never leaves it: the
+    leg pass on what only the first map explains finds their legs (``stood_at_start``), the map
+    stops explaining them, and they are a person by their legs as anyone. A crate the first map
+    holds stays the greenhouse's."""
+    walls, pots = scene()
+    first = with_cells(mapped(walls), *WORKER, 0.2)
+    rig = Rig(first, heading=math.pi)  # facing the robot: both legs in view
+    rig.people.watch(pots, 0.10)
+    scans = EVERY * SEEN
+    assert rig.ticks(scans - 1) == ()  # explained until the pass saw their legs on SEEN scans
+    rig.ticks(1 + LEGS_SEEN)
+    (p,) = rig.people.confident()
+    assert math.hypot(p.x - WORKER[0], p.y - WORKER[1]) < 0.15
+    legs = np.hypot(rig.points[:, 0] - WORKER[0], rig.points[:, 1] - WORKER[1]) < 0.3
+    assert not rig.people.scene.explained(rig.points)[legs].any()
+    rig = Rig(with_cells(mapped(walls), *WORKER, 0.25), thing=lambda s: s.box(*WORKER, 0.3, 0.3, math.pi / 4))
+    rig.people.watch(pots, 0.10)
+    assert rig.ticks(10 * scans) == ()
+
+
+def test_the_spots_of_legs_are_counted_per_place_and_forgotten_when_not_seen_again():
+    stood = StoodAtStart()
+    assert [stood.due() for _ in range(2 * EVERY)].count(True) == 2
+    assert stood.found(0.0, np.array([[1.0, 1.0], [3.0, 1.0]])) == []
+    assert stood.found(0.3, np.array([[1.05, 1.0]])) == []
+    assert stood.found(0.6 + FORGET, np.array([[1.0, 1.02], [3.0, 1.0]])) == []  # both forgotten by then
+    assert stood.found(0.9 + FORGET, np.array([[1.0, 1.0], [3.0, 1.0]])) == []
+    assert stood.found(1.2 + FORGET, np.array([[1.0, 1.0]])) == [(1.0, 1.0)]
+    assert stood.found(1.5 + FORGET, np.array([[1.0, 1.0]])) == []  # counted afresh once cleared
+    left = np.zeros((40, 40), bool)
+    clear_round(left, GridGeometry(0.05, 0.0, 0.0, 40, 40), [(1.0, 1.0)])
+    assert left[20, 20] and left[20, 20 + int(REACH / 0.05)] and not left[20, 20 + int(REACH / 0.05) + 2]
+
+
 def test_a_person_lost_for_a_moment_is_a_person_again_at_once_where_they_were_lost():
     walls, pots = scene()
     rig = Rig(mapped(walls), thing=lambda s: s.crouching(*WORKER, math.pi))
@@ -237,6 +274,29 @@ def test_a_person_lost_for_a_moment_is_a_person_again_at_once_where_they_were_lo
     rig.points = seen
     rig.ticks(1)
     assert rig.people.current() and rig.people.confident() == ()
+
+
+def test_where_a_person_was_lost_is_cut_from_the_structure_as_wide_as_a_cart_for_a_while():
+    """A cart paused against a wall is one long component with it; its track, cut out by its own
+    shrinking radius, died. A person shown is cut ``CUT`` wide, and where one was lost too, for
+    ``LOST_KEEP`` seconds."""
+    walls, pots = scene()
+    rig = Rig(mapped(walls), thing=lambda s: s.crouching(*WORKER, math.pi))
+    rig.people.watch(pots, 0.10)
+    for k in range(25):  # shown a person by walking 1 m east
+        s, _ = scene()
+        s.crouching(WORKER[0] + 0.04 * (k + 1), WORKER[1], math.pi)
+        rig.points = s.scan((ODOM.x + MOUNT.x, ODOM.y + MOUNT.y, 0.0))
+        rig.ticks(1)
+    (p,) = rig.people.confident()
+    assert [r for x, y, r in rig.people._tracked_in_map()] == [CUT]
+    rig.points = scene()[0].scan((ODOM.x + MOUNT.x, ODOM.y + MOUNT.y, 0.0))  # the map took them in: lost
+    rig.ticks(int(LOST_KEEP * 10) - 5)
+    assert rig.people.current() == ()
+    (spot,) = rig.people._tracked_in_map()
+    assert math.hypot(spot[0] - p.x, spot[1] - p.y) < 0.3 and spot[2] == CUT  # where it last was, coasting
+    rig.ticks(10)
+    assert rig.people._tracked_in_map() == []
 
 
 def test_a_tracker_that_fails_on_a_scan_is_logged_and_drops_its_people_without_raising(caplog):
