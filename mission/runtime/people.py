@@ -93,17 +93,17 @@ LEGS_NEAR = 0.3
 """A pair of legs or a leg arc belongs to the track whose centre lies within this of it, m:
 the track's centre is put a leg's radius behind what was seen."""
 
-CUT = 0.7
-"""A person shown is cut out of the map the structure is read from (``without``) this far round
-their track's centre at least, m: a cart 1.2 m wide and 0.6 m deep ahead of its pusher, the track
-wherever its seen part is. Cut by their track's own radius, a cart paused against a wall shrank
-scan by scan as the map took its far side in with the wall, until the whole of it was the wall's
-(safety.people held-out seed 107, 1,272-1,281 s: the track's radius fell from 0.5 m to 0.17 m,
-it died, and the robot drove into the cart still standing there)."""
-LOST_KEEP = 30.0
-"""Where a person's track was lost is cut out as a person shown (``CUT``) for this long, s: a
-cart pusher pauses at the end of their aisle for seconds (spec/world.md ``pause``), the map takes
-the next update to see them, and a track reborn there within ``REMEMBER`` is them again."""
+LOST_KEEP = 10.0
+"""Where a person's track was lost is still cut out of the map the structure is read from
+(``without``) this long, s, as wide as the track ever was: a cart pusher pauses at the end of
+their aisle for seconds (spec/world.md ``pause``), and a track reborn there within ``REMEMBER``
+is them again. Cut only while tracked, by the track's radius of the moment, a cart paused against
+a wall shrank scan by scan as the map took its far side in with the wall, until the whole of it
+was the wall's (safety.people held-out seed 107, 1,272-1,281 s: the track's radius fell from
+0.5 m to 0.17 m, it died, and the robot drove into the cart still standing there). Not wider
+than the track ever was: cut 0.7 m round every person shown, wall cells SLAM once saw free went
+with it, the walls' broken pieces were people, and their tracks cut more (the same seed: the
+patrol ended stuck among ghosts)."""
 REMEMBER = 3.0
 """Where a person's track was lost is remembered this long, s: a leg hidden behind the other, a
 worker cut by the map where they touch a wall, or out of view behind a pot for a few steps."""
@@ -140,8 +140,11 @@ class People:
         self.inherited: set[int] = set()
         """Ids of the tracks found where a person's track was just lost (``_carry``)."""
         self._gone: list[tuple[float, float, float, int | None]] = []
-        self._lost: list[tuple[float, float, float]] = []
-        """Where a person's track was lost (x, y, when; odom): cut from the structure (``LOST_KEEP``)."""
+        self._lost: list[tuple[float, float, float, float]] = []
+        """Where a person's track was lost (x, y, widest radius, when; odom): cut from the
+        structure (``LOST_KEEP``)."""
+        self._widest: dict[int, float] = {}
+        """Per person shown: the widest their track has been, m."""
         """Where a person's track was lost: x, y, when, their id (None: their track went on
         elsewhere, ``_carry``)."""
         self._stood: dict[int, tuple[float, float, float]] = {}
@@ -268,6 +271,7 @@ class People:
         self._shown = tuple(p for p in self.tracks
                             if not any(math.hypot(x - p.x, y - p.y) <= ROBOT_REACH for x, y in robots)
                             and (p.id in self.walked or p.id in self.inherited or self.legged(p.id)))
+        self._widest = {p.id: max(p.radius, self._widest.get(p.id, 0.0)) for p in self._shown}
 
     def _freeze(self) -> None:
         """The scene from the live map's structure (``_long``) and the first map's cells still
@@ -305,13 +309,12 @@ class People:
         """Every track now, shown a person or not yet: (x, y, radius), map frame. Not only the
         people shown: a grower with a cart who had stopped for the robot 0.15 m from a wall was
         a track not yet shown again, and the next map took them in with the wall (safety.people
-        seed 2, 290 s: the robot went on to 0.13 m of the cart). A person shown, and where one
-        was lost within ``LOST_KEEP``, reach ``CUT`` at least."""
-        m2o, shown = self.map_to_odom(), {p.id for p in self._shown}
-        now = self._stamp or 0.0
-        self._lost = [s for s in self._lost if now - s[2] <= LOST_KEEP]
-        spots = [(p.x, p.y, max(p.radius, CUT) if p.id in shown else p.radius) for p in self.tracks]
-        spots += [(x, y, CUT) for x, y, _ in self._lost]
+        seed 2, 290 s: the robot went on to 0.13 m of the cart). A person shown is cut as wide as
+        their track ever was, and where one was lost too, for ``LOST_KEEP``."""
+        m2o, now = self.map_to_odom(), self._stamp or 0.0
+        self._lost = [s for s in self._lost if now - s[3] <= LOST_KEEP]
+        spots = [(p.x, p.y, self._widest.get(p.id, p.radius)) for p in self.tracks]
+        spots += [(x, y, r) for x, y, r, _ in self._lost]
         return [(q.x, q.y, r) for x, y, r in spots for q in [compose(m2o, Pose2D(x, y, 0.0))]]
 
     def _robots_in_odom(self) -> list[tuple[float, float]]:
@@ -352,7 +355,7 @@ class People:
         self._gone = [g for g in self._gone if stamp - g[2] <= REMEMBER]
         lost = [(x, y, stamp, k) for k, (x, y) in shown.items() if self._raw.get(k) not in live]
         self._gone += lost
-        self._lost += [(x, y, stamp) for x, y, _, _ in lost]
+        self._lost += [(x, y, self._widest.get(k, 0.0), stamp) for x, y, _, k in lost]
         carried = set()
         for p in raw:
             if self._alias.get(p.id, p.id) in shown or not self._gone:
