@@ -17,7 +17,11 @@ would be a person: the default patrol took 244 s of robot time instead of 123, s
 by walls. So the scene also takes in, each time SLAM hands a new map, its *structure*: the
 occupied components longer than any person (``max_extent``, the tracker's own bound, bounding-box
 diagonal, after closing 0.1 m gaps), which are walls and benches; a worker standing still, a
-crouching one or a crate stays a small blob and is never taken in.
+crouching one or a crate stays a small blob and is never taken in. Whatever is tracked is cut
+out of the map the structure is read from first (``without``; a person shown as wide as their
+track ever was, and where one was lost for ``LOST_KEEP``), so a grower paused against a wall is
+not taken in with it. And a worker who already stood on their spot when the first map was made
+is found by their legs where only that map explains returns (``mission.runtime.stood_at_start``).
 
 The rules act on tracks shown to be people, from then on for as long as the track lives,
 standing or not: tracks that have walked (moved ``WALKED`` from where they were first seen) and
@@ -54,10 +58,10 @@ from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
 from hw.people import Person
 from hw.people_guard import PeopleGuard
+from mission.runtime.stood_at_start import RANGE, StoodAtStart, clear_round
 from nav.frames import compose, inverse, transform_points
 from nav.grid_geometry import GridGeometry, paste
 from nav.occupancy import FREE, FREE_MAX, OCCUPIED_MIN, UNKNOWN, OccupancyMap
-from mission.runtime.stood_at_start import RANGE, StoodAtStart, clear_round
 from nav.structure import long_components
 from nav.walks import STRIDING
 from perception.people.config import PeopleConfig
@@ -140,13 +144,13 @@ class People:
         self.inherited: set[int] = set()
         """Ids of the tracks found where a person's track was just lost (``_carry``)."""
         self._gone: list[tuple[float, float, float, int | None]] = []
+        """Where a person's track was lost: x, y, when, their id (None: their track went on
+        elsewhere, ``_carry``)."""
         self._lost: list[tuple[float, float, float, float]] = []
         """Where a person's track was lost (x, y, widest radius, when; odom): cut from the
         structure (``LOST_KEEP``)."""
         self._widest: dict[int, float] = {}
         """Per person shown: the widest their track has been, m."""
-        """Where a person's track was lost: x, y, when, their id (None: their track went on
-        elsewhere, ``_carry``)."""
         self._stood: dict[int, tuple[float, float, float]] = {}
         """Per person shown: where their track last stood still (slower than ``STRIDING``: a
         paused cart's track reads up to ~0.3 m/s of jitter), and when."""
@@ -429,15 +433,6 @@ class Cells:
 
     def occupied(self) -> np.ndarray:
         return self._mask
-
-
-def first_and_structure(first: OccupancyMap, live: OccupancyMap, max_extent: float, left: np.ndarray | None = None,
-                        gap: float = 0.1, structure: OccupancyMap | None = None) -> np.ndarray:
-    """On ``live``'s grid: the first map's cells ``kept``, and the structure (``nav.structure``:
-    components whose bounding box's diagonal exceeds ``max_extent`` once gaps up to ``gap`` are
-    closed) of ``structure``, a map on ``live``'s grid (``live`` itself by default; the tracks
-    cut out of it, ``without``)."""
-    return long_components(structure or live, max_extent, gap) | kept(first, live, left)
 
 
 def kept(first: OccupancyMap, live: OccupancyMap, left: np.ndarray | None = None) -> np.ndarray:

@@ -11,11 +11,12 @@ import numpy as np
 
 from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
-from mission.runtime.people import LEG_SCANS, LEGS_SEEN, LOST_KEEP, People, first_and_structure, floor_seen, without
+from mission.runtime.people import LEG_SCANS, LEGS_SEEN, LOST_KEEP, People, floor_seen, kept, without
 from mission.runtime.stood_at_start import EVERY, FORGET, REACH, SEEN, StoodAtStart, clear_round
 from nav.grid_geometry import GridGeometry
 from nav.frames import compose
 from nav.occupancy import OccupancyMap
+from nav.structure import long_components
 from perception.people.config import PeopleConfig
 from tests.perception.people.synthetic import POT_RADIUS, greenhouse, mapped
 
@@ -50,6 +51,12 @@ def with_cells(m: OccupancyMap, x: float, y: float, r: float, value: int = 100) 
     cx, cy = g.centre_of(gx, gy)
     occ[np.hypot(cx - x, cy - y) <= r] = value
     return OccupancyMap(occ, m.resolution, m.origin_x, m.origin_y)
+
+
+def first_and_structure(first: OccupancyMap, live: OccupancyMap, structure: OccupancyMap | None = None) -> np.ndarray:
+    """What the scene takes for the greenhouse (``People._freeze``): the structure of
+    ``structure`` (``live`` by default) and the first map's cells."""
+    return long_components(structure or live, PeopleConfig().max_extent) | kept(first, live)
 
 
 class Rig:
@@ -107,7 +114,7 @@ def test_structure_is_what_is_longer_than_a_person_plus_the_first_map():
     first = OccupancyMap(np.zeros_like(mapped(walls).occupancy), 0.05, -0.1, -0.1)
     first = with_cells(first, 6.0, 1.0, 0.1)  # something small the first map held
     live = with_cells(mapped(walls), *WORKER, 0.2)
-    taken = first_and_structure(first, live, PeopleConfig().max_extent)
+    taken = first_and_structure(first, live)
     g = live.geometry
     def at(x, y):
         ix, iy = g.cell_of(x, y)
@@ -129,17 +136,16 @@ def test_a_person_shown_standing_against_a_wall_is_not_taken_in_with_it():
     def at(taken, x, y):
         ix, iy = g.cell_of(x, y)
         return bool(taken[iy, ix])
-    merged = first_and_structure(first, live, PeopleConfig().max_extent)
+    merged = first_and_structure(first, live)
     assert at(merged, *worker)  # the wall took the worker in
     floor = floor_seen(mapped(walls), None, None)  # the floor seen free before they stood there
     cut = without(live, [(*worker, 0.2)], PeopleConfig().margin, floor)
-    taken = first_and_structure(first, live, PeopleConfig().max_extent, structure=cut)
+    taken = first_and_structure(first, live, structure=cut)
     assert not at(taken, *worker) and not at(taken, worker[0] + 0.12, worker[1])
     assert at(taken, 8.0, 2.5) and at(taken, 8.0, 1.0)  # the wall behind and beside them still is
     assert without(live, [], 0.1) is live
     # a false track on the wall itself cuts nothing of it: the wall was never floor
-    on_wall = first_and_structure(first, live, PeopleConfig().max_extent,
-                                  structure=without(live, [(8.0, 1.0, 0.2)], PeopleConfig().margin, floor))
+    on_wall = first_and_structure(first, live, without(live, [(8.0, 1.0, 0.2)], PeopleConfig().margin, floor))
     assert at(on_wall, 8.0, 1.0)
 
 
