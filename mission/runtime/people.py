@@ -58,7 +58,7 @@ from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
 from hw.people import Person
 from hw.people_guard import PeopleGuard
-from mission.runtime.stood_at_start import RANGE, StoodAtStart, clear_round
+from mission.runtime.stood_at_start import StoodAtStart, clear_round
 from nav.frames import compose, inverse, transform_points
 from nav.grid_geometry import GridGeometry, paste
 from nav.occupancy import FREE, FREE_MAX, OCCUPIED_MIN, UNKNOWN, OccupancyMap
@@ -287,20 +287,9 @@ class People:
 
     def _stood_at_start(self, stamp: float, points: np.ndarray, in_map: np.ndarray, explained: np.ndarray,
                         lidar: Pose2D, m2o: Pose2D) -> bool:
-        """The leg pass on the returns only the first map explains (``mission.runtime.stood_at_start``);
-        True when someone was found standing there and the scene refrozen without them."""
-        bare = self.bare.explained(in_map)
-        only_first = explained & ~bare
-        near = np.hypot(points[:, 0] - lidar.x, points[:, 1] - lidar.y) <= RANGE
-        if not (only_first & near).any():
-            return False
-        shapes = find_legs(points, np.array([lidar.x, lidar.y]), bare, self.config)
-        if not len(shapes.pairs):
-            return False
-        pairs = transform_points(m2o, shapes.pairs)
-        seen = in_map[only_first]
-        d = np.hypot(*(pairs[:, None, :] - seen[None, :, :]).transpose(2, 0, 1)).min(axis=1)
-        spots = self.stood.found(stamp, pairs[d <= LEGS_NEAR])
+        """Someone standing where only the first map explains returns (``stood_at_start``):
+        True when found, their cells no longer explaining and the scene refrozen."""
+        spots = self.stood.look(stamp, points, in_map, explained, self.bare.explained(in_map), lidar, m2o, self.config)
         if not spots:
             return False
         clear_round(self._left, self._first.geometry, spots)
