@@ -272,10 +272,10 @@ class People:
         self.walked = {p.id for p in self.tracks if p.id in self.walked
                        or np.hypot(p.x - self._origin[p.id][0], p.y - self._origin[p.id][1]) > WALKED}
         robots = self._robots_in_odom()
-        shown = [p for p in self.tracks if not any(math.hypot(x - p.x, y - p.y) <= ROBOT_REACH for x, y in robots)
-                 and (p.id in self.walked or p.id in self.inherited or self.legged(p.id))]
-        self._widest = {p.id: max(p.radius, self._widest.get(p.id, 0.0)) for p in shown}
-        self._shown = tuple(replace(p, radius=self._widest[p.id]) for p in shown)
+        self._shown = tuple(p for p in self.tracks
+                            if not any(math.hypot(x - p.x, y - p.y) <= ROBOT_REACH for x, y in robots)
+                            and (p.id in self.walked or p.id in self.inherited or self.legged(p.id)))
+        self._widest = {p.id: max(p.radius, self._widest.get(p.id, 0.0)) for p in self._shown}
 
     def _freeze(self) -> None:
         """The scene from the live map's structure (``_long``) and the first map's cells still
