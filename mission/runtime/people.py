@@ -289,7 +289,7 @@ class People:
                         lidar: Pose2D, m2o: Pose2D) -> bool:
         """Someone standing where only the first map explains returns (``stood_at_start``):
         True when found, their cells no longer explaining and the scene refrozen."""
-        spots = self.stood.look(stamp, points, in_map, explained, self.bare.explained(in_map), lidar, m2o, self.config)
+        spots = self.stood.look(stamp, points, explained, self.bare.explained(in_map), lidar, m2o, self.config)
         if not spots:
             return False
         clear_round(self._left, self._first.geometry, spots)

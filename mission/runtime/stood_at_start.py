@@ -35,9 +35,6 @@ from perception.people.legs import find as find_legs
 SEEN = 3
 """Scans on which a pair of legs is found at one spot before it is taken for someone standing:
 as ``mission.runtime.people.LEGS_SEEN`` (one scan's pair can be two slivers of noise)."""
-ON = 0.3
-"""A pair whose midpoint lies this near a return only the first map explains stands there, m:
-a leg's returns lie up to half a wide stance (0.2 m) and a leg's radius from the midpoint."""
 SAME = 0.3
 """A pair within this of one found before is at the same spot, m (``LEGS_NEAR``)."""
 FORGET = 2.0
@@ -67,21 +64,17 @@ class StoodAtStart:
         self._scans += 1
         return self._scans % EVERY == 0
 
-    def look(self, stamp: float, points: np.ndarray, in_map: np.ndarray, explained: np.ndarray, bare: np.ndarray,
+    def look(self, stamp: float, points: np.ndarray, explained: np.ndarray, bare: np.ndarray,
              lidar: Pose2D, m2o: Pose2D, config: PeopleConfig) -> list[tuple[float, float]]:
-        """The leg pass on one scan's returns (``points`` odom, ``in_map`` the same in the map,
-        ``explained`` by the whole scene, ``bare`` by its structure and pots alone), its pairs
-        near what only the first map explains counted (``found``); the spots someone stands on."""
-        only_first = explained & ~bare
-        near = np.hypot(points[:, 0] - lidar.x, points[:, 1] - lidar.y) <= RANGE
-        if not (only_first & near).any():
+        """The leg pass on the returns of one scan (``points``, odom) that only the first map
+        explains (``explained`` by the whole scene, not ``bare``, its structure and pots alone),
+        within ``RANGE``; its pairs counted (``found``, map frame through ``m2o``). The spots
+        someone stands on. Only those returns: the pass costs what they are, a few on most scans."""
+        only_first = explained & ~bare & (np.hypot(points[:, 0] - lidar.x, points[:, 1] - lidar.y) <= RANGE)
+        if not only_first.any():
             return []
-        pairs = find_legs(points, np.array([lidar.x, lidar.y]), bare, config).pairs
-        if not len(pairs):
-            return []
-        pairs = transform_points(m2o, pairs)
-        d = np.hypot(*(pairs[:, None, :] - in_map[only_first][None, :, :]).transpose(2, 0, 1)).min(axis=1)
-        return self.found(stamp, pairs[d <= ON])
+        pairs = find_legs(points, np.array([lidar.x, lidar.y]), ~only_first, config).pairs
+        return self.found(stamp, transform_points(m2o, pairs)) if len(pairs) else []
 
     def found(self, stamp: float, pairs: np.ndarray) -> list[tuple[float, float]]:
         """Count this scan's ``pairs`` ((K, 2) midpoints, map frame); the spots just seen for
