@@ -58,7 +58,7 @@ from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
 from hw.people import Person
 from hw.people_guard import PeopleGuard
-from mission.runtime.stood_at_start import StoodAtStart, clear_round
+from mission.runtime.stood_at_start import StoodAtStart, clear_round, first_only, pairs_on
 from nav.frames import compose, inverse, transform_points
 from nav.grid_geometry import GridGeometry, paste
 from nav.occupancy import FREE, FREE_MAX, OCCUPIED_MIN, UNKNOWN, OccupancyMap
@@ -66,7 +66,7 @@ from nav.structure import long_components
 from nav.walks import STRIDING
 from perception.people.config import PeopleConfig
 from perception.people.explained import StaticScene
-from perception.people.legs import find as find_legs
+from perception.people.legs import LegShapes, find as find_legs
 from perception.people.tracker import PersonTracker, odom_points
 
 if TYPE_CHECKING:
@@ -255,13 +255,21 @@ class People:
         points = odom_points(scan.angles, scan.ranges, (lidar.x, lidar.y, lidar.yaw))
         m2o = self.map_to_odom()
         in_map = transform_points(m2o, points)
-        explained = self.scene.explained(in_map)
-        if self.stood.due() and self._stood_at_start(scan.stamp, points, in_map, explained, lidar, m2o):
+        explained, bare = self.scene.explained(in_map), self.bare.explained(in_map)
+        lidar_xy = np.array([lidar.x, lidar.y])
+        first = first_only(points, lidar_xy, explained, bare)
+        # one shape pass a scan, on what the structure and the pots leave: the tracks' legs and
+        # the legs of someone the first map holds (``stood_at_start``)
+        shapes = find_legs(points, lidar_xy, bare, self.config) if len(first) or self.tracks else None
+        if len(first) and self._stood_at_start(scan.stamp, shapes.pairs, first, m2o):
             explained = self.scene.explained(in_map)
         shown = {p.id: (p.x, p.y) for p in self.confident()}
         raw = self.tracker.update(scan.stamp, points, (odom.x, odom.y, odom.yaw), explained)
         self.tracks = self._carry(scan.stamp, raw, shown)
-        self._count_legs(points, np.array([lidar.x, lidar.y]), explained)
+        if self.tracks:
+            self._count_legs(shapes or find_legs(points, lidar_xy, bare, self.config))
+        else:
+            self.pairs, self.arcs = {}, {}
         last = self._last
         self._last = {p.id: (p.x, p.y) for p in self.tracks}
         # a track that jumped (its detection hopped to another thing: the next unknown pot of a
@@ -285,11 +293,10 @@ class People:
                                  self._pots, self._pot_radius, c.margin)
         self.bare = StaticScene(Cells(live.geometry, self._long), self._pots, self._pot_radius, c.margin)
 
-    def _stood_at_start(self, stamp: float, points: np.ndarray, in_map: np.ndarray, explained: np.ndarray,
-                        lidar: Pose2D, m2o: Pose2D) -> bool:
+    def _stood_at_start(self, stamp: float, pairs: np.ndarray, first: np.ndarray, m2o: Pose2D) -> bool:
         """Someone standing where only the first map explains returns (``stood_at_start``):
         True when found, their cells no longer explaining and the scene refrozen."""
-        spots = self.stood.look(stamp, points, explained, self.bare.explained(in_map), lidar, m2o, self.config)
+        spots = self.stood.found(stamp, pairs_on(pairs, first, m2o))
         if not spots:
             return False
         clear_round(self._left, self._first.geometry, spots)
@@ -386,17 +393,13 @@ class People:
                     stood[p.id] = (x, y, when)
         self._stood = stood
 
-    def _count_legs(self, points: np.ndarray, lidar_xy: np.ndarray, explained: np.ndarray) -> None:
+    def _count_legs(self, shapes: LegShapes) -> None:
         """Count, per track, the scans on which it was seen as a pair of legs or a leg arc (the
-        shape pass on the scan's ``points`` seen from ``lidar_xy``; the nearest track within
-        ``LEGS_NEAR`` of each shape); tracks gone are forgotten. With no track the pass is not
-        run: its shapes only ever count for a track."""
+        scan's ``shapes``; the nearest track within ``LEGS_NEAR`` of each); tracks gone are
+        forgotten."""
         ids = [p.id for p in self.tracks]
         self.pairs = {k: self.pairs.get(k, 0) for k in ids}
         self.arcs = {k: self.arcs.get(k, deque(maxlen=LEG_WINDOW)) for k in ids}
-        if not ids:
-            return
-        shapes = find_legs(points, lidar_xy, explained, self.config)
         at = np.array([(p.x, p.y) for p in self.tracks])
         for k in self._nearest(at, shapes.pairs):
             self.pairs[ids[k]] += 1

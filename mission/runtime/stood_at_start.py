@@ -9,14 +9,15 @@ greenhouse for good. They never walk off, so their cells are never seen free
 784-788 s, a grower standing at (6.6, 2.5) since the start, untracked from 1.3 m in, passed at
 0.11 m.
 
-So the returns the first map alone explains (not the structure, not a known pot) get the leg
-pass of their own: a pair of legs (``perception.people.legs``: two leg arcs with a gap between,
-which a crate's faces meeting at a corner are not) found there on ``SEEN`` scans, each within
+So the tracker's leg pass runs on what the structure and the known pots leave, the first map's
+returns included (one pass a scan, as the tracks' legs need anyway; a second pass of its own put
+perception.people's p95 per scan from ~1.2 to ~1.5 ms): a pair of legs (``perception.people.legs``:
+two leg arcs with a gap between, which a crate's faces meeting at a corner are not) within ``ON``
+of returns only the first map explains, within ``RANGE``, found on ``SEEN`` scans, each within
 ``SAME`` of the last, is someone standing; the first map's cells within ``REACH`` of them stop
 explaining anything, and from the next scan they are a track like anyone unmapped, shown a
-person by their legs as ever. The pass runs every ``EVERY`` scans, and only with such returns
-within ``RANGE``: in a greenhouse with no one standing in it, they are the few crates
-the first map holds. A crouching worker there from the start is one low block, a crate to the
+person by their legs as ever. Not on those returns alone: a leg half outside the first map's
+cells is two slivers, no leg (seed 109's grower was never found so). A crouching worker there from the start is one low block, a crate to the
 lidar: not found by this (the issue's front camera would have to tell them apart).
 """
 from __future__ import annotations
@@ -29,8 +30,6 @@ import numpy as np
 from hw.odometry import Pose2D
 from nav.frames import transform_points
 from nav.grid_geometry import GridGeometry
-from perception.people.config import PeopleConfig
-from perception.people.legs import find as find_legs
 
 SEEN = 3
 """Scans on which a pair of legs is found at one spot before it is taken for someone standing:
@@ -47,46 +46,14 @@ REACH = 0.35
 0.07 m in radius up to ~0.2 m either side of the midpoint (a wide stance) and a cell's margin;
 a crate beside the worker is seen again the next time the map is frozen."""
 RANGE = 3.0
-"""The pass runs on the returns this near the lidar, with some of them only the first map's, m:
-a leg at 3 m is ~6 of the C1's returns, and someone farther off is not yet within the speed
-rule's 1 m (the whole scan's pass put perception.people's p95 per scan at 1.39 ms)."""
-EVERY = 3
-"""The pass runs on every this many scans (a standing worker approached at 0.5 m/s from the
-leg pass's 3 m is found within ~1 s, before the 1 m of the speed rule)."""
-
-
+"""Only returns this near the lidar count as the first map's alone, m: a leg at 3 m is ~6 of the
+C1's returns, and someone farther off is not yet within the speed rule's 1 m."""
 class StoodAtStart:
     """Counts pairs of legs by spot over the scans; a spot seen ``SEEN`` times is someone."""
 
     def __init__(self):
         self._spots: list[list[float]] = []
         """[x, y, scans seen, last seen] per spot, map frame."""
-        self._scans = 0
-
-    def due(self) -> bool:
-        """Is this scan one the pass runs on (``EVERY``)?"""
-        self._scans += 1
-        return self._scans % EVERY == 0
-
-    def look(self, stamp: float, points: np.ndarray, explained: np.ndarray, bare: np.ndarray,
-             lidar: Pose2D, m2o: Pose2D, config: PeopleConfig) -> list[tuple[float, float]]:
-        """The leg pass on one scan (``points``, odom) within ``RANGE``, on what the structure and
-        the known pots leave (``bare`` explains), run when some of it only the first map explains
-        (``explained`` by the whole scene); its pairs within ``ON`` of such returns counted
-        (``found``, map frame through ``m2o``). The spots someone stands on. Not on those returns
-        alone: a leg half outside the first map's cells is two slivers, no leg (held-out seed
-        109's standing grower was never found so)."""
-        near = np.hypot(points[:, 0] - lidar.x, points[:, 1] - lidar.y) <= RANGE
-        only_first = explained & ~bare & near
-        if not only_first.any():
-            return []
-        pairs = find_legs(points, np.array([lidar.x, lidar.y]), bare | ~near, config).pairs
-        if not len(pairs):
-            return []
-        pairs = transform_points(m2o, pairs)
-        seen = transform_points(m2o, points[only_first])
-        d = np.hypot(*(pairs[:, None, :] - seen[None, :, :]).transpose(2, 0, 1)).min(axis=1)
-        return self.found(stamp, pairs[d <= ON])
 
     def found(self, stamp: float, pairs: np.ndarray) -> list[tuple[float, float]]:
         """Count this scan's ``pairs`` ((K, 2) midpoints, map frame); the spots just seen for
@@ -101,6 +68,22 @@ class StoodAtStart:
         sure = [(s[0], s[1]) for s in self._spots if s[2] >= SEEN]
         self._spots = [s for s in self._spots if s[2] < SEEN]
         return sure
+
+
+def first_only(points: np.ndarray, lidar_xy: np.ndarray, explained: np.ndarray, bare: np.ndarray) -> np.ndarray:
+    """(M, 2) the returns of ``points`` within ``RANGE`` of the lidar that only the first map
+    explains (``explained`` by the whole scene, not ``bare``: its structure and known pots)."""
+    near = np.hypot(points[:, 0] - lidar_xy[0], points[:, 1] - lidar_xy[1]) <= RANGE
+    return points[explained & ~bare & near]
+
+
+def pairs_on(pairs: np.ndarray, first: np.ndarray, m2o: Pose2D) -> np.ndarray:
+    """The ``pairs`` of legs (odom) within ``ON`` of a return only the first map explains
+    (``first``, odom), in the map frame."""
+    if not len(pairs):
+        return np.empty((0, 2))
+    d = np.hypot(*(pairs[:, None, :] - first[None, :, :]).transpose(2, 0, 1)).min(axis=1)
+    return transform_points(m2o, pairs[d <= ON])
 
 
 def clear_round(left: np.ndarray, geometry: GridGeometry, spots: list[tuple[float, float]]) -> None:

@@ -12,7 +12,7 @@ import numpy as np
 from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
 from mission.runtime.people import LEG_SCANS, LEGS_SEEN, LOST_KEEP, People, floor_seen, kept, without
-from mission.runtime.stood_at_start import EVERY, FORGET, REACH, SEEN, StoodAtStart, clear_round
+from mission.runtime.stood_at_start import FORGET, REACH, SEEN, StoodAtStart, clear_round
 from nav.grid_geometry import GridGeometry
 from nav.frames import compose
 from nav.occupancy import OccupancyMap
@@ -210,7 +210,7 @@ def test_someone_standing_in_the_first_map_is_not_explained_by_it_once_seen_gone
     spot free, the first map stops explaining it, and they are tracked when they come back."""
     walls, pots = scene()
     first = with_cells(mapped(walls), *WORKER, 0.2)
-    rig = Rig(first, heading=math.pi)
+    rig = Rig(first)  # side-on: one leg behind the other, no pair for stood_at_start to find
     rig.people.watch(pots, 0.10)
     assert rig.ticks(5) == ()  # explained by the first map: they were there at the start
     rig.map = with_cells(mapped(walls), *WORKER, 0.3, value=0)  # they walked off: SLAM saw the spot free
@@ -231,7 +231,7 @@ def test_someone_standing_in_the_first_map_all_along_is_found_by_their_legs_and_
     first = with_cells(mapped(walls), *WORKER, 0.2)
     rig = Rig(first, heading=math.pi)  # facing the robot: both legs in view
     rig.people.watch(pots, 0.10)
-    scans = EVERY * SEEN
+    scans = SEEN
     assert rig.ticks(scans - 1) == ()  # explained until the pass saw their legs on SEEN scans
     rig.ticks(1 + LEGS_SEEN)
     (p,) = rig.people.confident()
@@ -245,7 +245,6 @@ def test_someone_standing_in_the_first_map_all_along_is_found_by_their_legs_and_
 
 def test_the_spots_of_legs_are_counted_per_place_and_forgotten_when_not_seen_again():
     stood = StoodAtStart()
-    assert [stood.due() for _ in range(2 * EVERY)].count(True) == 2
     assert stood.found(0.0, np.array([[1.0, 1.0], [3.0, 1.0]])) == []
     assert stood.found(0.3, np.array([[1.05, 1.0]])) == []
     assert stood.found(0.6 + FORGET, np.array([[1.0, 1.02], [3.0, 1.0]])) == []  # both forgotten by then
