@@ -267,7 +267,7 @@ class People:
         raw = self.tracker.update(scan.stamp, points, (odom.x, odom.y, odom.yaw), explained)
         self.tracks = self._carry(scan.stamp, raw, shown)
         if self.tracks:
-            self._count_legs(shapes or find_legs(points, lidar_xy, bare, self.config))
+            self._count_legs(shapes if shapes is not None else find_legs(points, lidar_xy, bare, self.config))
         else:
             self.pairs, self.arcs = {}, {}
         last = self._last
