@@ -6,22 +6,13 @@ and the report's ``people`` list (``mission.patrol.person_encounters``) read
 ``People.confident``, a ``hw.people.PeopleSource``. Every consumer gets the same tracks in ``odom``; none imports
 perception.
 
-The tracker needs to know what the greenhouse itself explains, so that a pot is not a person:
-the map as it stood when the patrol started plus the pots the mission lists
-(``perception.people.explained.StaticScene``: not the live SLAM map as it is, which writes in a
-worker who stands still). So the tracker runs once the patrol says which pots it knows
-(``watch``), with the map of the first tick that has one (SLAM's first map from the dock, or the
-saved one AMCL localises on). A patrol mapping from the dock has seen little of its walls then,
-and every wall it meets later, broken into short arcs by the pots in front and grazing angles,
-would be a person: the default patrol took 244 s of robot time instead of 123, slowed and held
-by walls. So the scene also takes in, each time SLAM hands a new map, its *structure*: the
-occupied components longer than any person (``max_extent``, the tracker's own bound, bounding-box
-diagonal, after closing 0.1 m gaps), which are walls and benches; a worker standing still, a
-crouching one or a crate stays a small blob and is never taken in. Whatever is tracked is cut
-out of the map the structure is read from first (``without``; a person shown as wide as their
-track ever was, and where one was lost for ``LOST_KEEP``), so a grower paused against a wall is
-not taken in with it. And a worker who already stood on their spot when the first map was made
-is found by their legs where only that map explains returns (``mission.runtime.stood_at_start``).
+The tracker needs to know what the greenhouse itself explains, so that a pot is not a person
+(``mission.runtime.greenhouse``: the first map, the structure SLAM finds since, the known pots);
+so it runs once the patrol says which pots it knows (``watch``). Whatever is tracked is cut out
+of the map the structure is read from (a person shown as wide as their track ever was, and where
+one was lost for ``LOST_KEEP``), so a grower paused against a wall is not taken in with it; and a
+worker who already stood on their spot when the first map was made is found by their legs where
+only that map explains returns (``mission.runtime.stood_at_start``).
 
 The rules act on tracks shown to be people, from then on for as long as the track lives,
 standing or not: tracks that have walked (moved ``WALKED`` from where they were first seen) and
@@ -51,18 +42,16 @@ from collections import deque
 from dataclasses import replace
 from typing import TYPE_CHECKING, Callable, Optional, Sequence
 
-import cv2
 import numpy as np
 
 from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
 from hw.people import Person
 from hw.people_guard import PeopleGuard
-from mission.runtime.stood_at_start import StoodAtStart, clear_round, first_only, pairs_on
+from mission.runtime.greenhouse import Greenhouse
+from mission.runtime.stood_at_start import StoodAtStart, first_only, pairs_on
 from nav.frames import compose, inverse, transform_points
-from nav.grid_geometry import GridGeometry, paste
-from nav.occupancy import FREE, FREE_MAX, OCCUPIED_MIN, UNKNOWN, OccupancyMap
-from nav.structure import long_components
+from nav.occupancy import OccupancyMap
 from nav.walks import STRIDING
 from perception.people.config import PeopleConfig
 from perception.people.explained import StaticScene
@@ -172,22 +161,10 @@ class People:
         self._failed_at = -math.inf
         self.guard: PeopleGuard | None = None
         """The people guard on the base (``attach_people``)."""
-        self.scene: StaticScene | None = None
-        """What the greenhouse explains, frozen at the first map once the pots are known."""
-        self.bare: StaticScene | None = None
-        """The scene without the first map: the structure and the known pots."""
-        self._long: np.ndarray | None = None
-        """The live map's structure, on its grid (``nav.structure``)."""
+        self.greenhouse: Greenhouse | None = None
+        """What the greenhouse explains (``watch`` on)."""
         self.stood = StoodAtStart()
-        self._pots: np.ndarray | None = None
-        self._pot_radius = 0.0
         self._stamp: float | None = None
-        self._first: OccupancyMap | None = None
-        self._left: np.ndarray | None = None
-        """The first map's occupied cells a later map saw free: someone who stood there left."""
-        self._live: OccupancyMap | None = None
-        self._floor: np.ndarray | None = None
-        """The live map's cells any map so far saw free: floor, which a person may stand on."""
 
     def current(self) -> Sequence[Person]:
         """The ``hw.people.PeopleSource`` every consumer holds."""
@@ -197,16 +174,19 @@ class People:
         """Start tracking with the mission's pots (map frame) as known; the scene is frozen at
         the next tick with a map. Returns the source of the people the rules act on (the
         tracks that have walked), for the report."""
-        self._pots = np.asarray(pots_xy, dtype=float).reshape(-1, 2)
-        self._pot_radius = pot_radius
-        self.scene, self.bare, self._first, self._live, self._floor = None, None, None, None, None
+        self.greenhouse = Greenhouse(self.config, pots_xy, pot_radius)
         self.stood = StoodAtStart()
         return self.confident
 
     @property
     def pots(self) -> np.ndarray:
         """(N, 2) the pots the tracker knows for pots, map frame (none before ``watch``)."""
-        return np.empty((0, 2)) if self._pots is None else self._pots
+        return np.empty((0, 2)) if self.greenhouse is None else self.greenhouse.pots
+
+    @property
+    def scene(self) -> StaticScene | None:
+        """What the greenhouse explains now (None before a map)."""
+        return None if self.greenhouse is None else self.greenhouse.scene
 
     def confident(self) -> Sequence[Person]:
         """The people the distance rules act on (module docstring): chosen once a scan, read by
@@ -232,19 +212,11 @@ class People:
             self.tracks, self._shown = (), ()
 
     def _tick(self) -> None:
-        if self._pots is None:
+        house = self.greenhouse
+        if house is None:
             return
-        live = self.occupancy()
-        if live is not self._live and live is not None:
-            if self._first is None:
-                self._first, self._left = live, np.zeros(live.occupancy.shape, bool)
-            self._floor = floor_seen(live, self._floor, None if self._live is None else self._live.geometry)
-            self._live = live
-            self._left |= self._first.occupied() & seen_free(live, self._first.geometry, self.config.margin)
-            self._long = long_components(without(live, self._tracked_in_map(), self.config.margin, self._floor),
-                                         self.config.max_extent)
-            self._freeze()
-        if self.scene is None:
+        house.see(self.occupancy(), self._tracked_in_map)
+        if house.scene is None:
             return  # no map yet: a pot unexplained would be a person
         scan = self.scan()
         if scan is None or scan.stamp == self._stamp:
@@ -255,14 +227,14 @@ class People:
         points = odom_points(scan.angles, scan.ranges, (lidar.x, lidar.y, lidar.yaw))
         m2o = self.map_to_odom()
         in_map = transform_points(m2o, points)
-        explained, bare = self.scene.explained(in_map), self.bare.explained(in_map)
+        explained, bare = house.scene.explained(in_map), house.bare.explained(in_map)
         lidar_xy = np.array([lidar.x, lidar.y])
         first = first_only(points, lidar_xy, explained, bare)
         # one shape pass a scan, on what the structure and the pots leave: the tracks' legs and
         # the legs of someone the first map holds (``stood_at_start``)
         shapes = find_legs(points, lidar_xy, bare, self.config) if len(first) or self.tracks else None
         if len(first) and self._stood_at_start(scan.stamp, shapes.pairs, first, m2o):
-            explained = self.scene.explained(in_map)
+            explained = house.scene.explained(in_map)
         shown = {p.id: (p.x, p.y) for p in self.confident()}
         raw = self.tracker.update(scan.stamp, points, (odom.x, odom.y, odom.yaw), explained)
         self.tracks = self._carry(scan.stamp, raw, shown)
@@ -285,24 +257,15 @@ class People:
                             and (p.id in self.walked or p.id in self.inherited or self.legged(p.id)))
         self._widest = {p.id: max(p.radius, self._widest.get(p.id, 0.0)) for p in self._shown}
 
-    def _freeze(self) -> None:
-        """The scene from the live map's structure (``_long``) and the first map's cells still
-        kept (not ``_left``); ``bare`` the same without the first map."""
-        live, c = self._live, self.config
-        self.scene = StaticScene(Cells(live.geometry, self._long | kept(self._first, live, self._left)),
-                                 self._pots, self._pot_radius, c.margin)
-        self.bare = StaticScene(Cells(live.geometry, self._long), self._pots, self._pot_radius, c.margin)
-
     def _stood_at_start(self, stamp: float, pairs: np.ndarray, first: np.ndarray, m2o: Pose2D) -> bool:
         """Someone standing where only the first map explains returns (``stood_at_start``):
         True when found, their cells no longer explaining and the scene refrozen."""
         spots = self.stood.found(stamp, pairs_on(pairs, first, m2o))
         if not spots:
             return False
-        clear_round(self._left, self._first.geometry, spots)
+        self.greenhouse.clear(spots)
         log.info("someone standing since the first map at %s: a person, not the greenhouse",
                  ", ".join(f"({x:.1f}, {y:.1f})" for x, y in spots))
-        self._freeze()
         return True
 
     def _tracked_in_map(self) -> list[tuple[float, float, float]]:
@@ -415,68 +378,6 @@ class People:
         d = np.hypot(*(at[:, None, :] - found[None, :, :]).transpose(2, 0, 1))
         k = np.argmin(d, axis=0)
         return [int(i) for i, j in zip(k, range(len(found))) if d[i, j] <= LEGS_NEAR]
-
-
-class Cells:
-    """An occupied mask where ``StaticScene`` wants a map (its ``occupied()`` and ``geometry``)."""
-
-    def __init__(self, geometry: GridGeometry, mask: np.ndarray):
-        self.geometry, self._mask = geometry, mask
-
-    def occupied(self) -> np.ndarray:
-        return self._mask
-
-
-def kept(first: OccupancyMap, live: OccupancyMap, left: np.ndarray | None = None) -> np.ndarray:
-    """On ``live``'s grid: the first map's occupied cells but those ``left`` (on the first map's
-    grid: seen free since, or someone found standing there, ``mission.runtime.stood_at_start``)."""
-    cells = first.occupied() if left is None else first.occupied() & ~left
-    return paste(cells, first.geometry, live.geometry, False)
-
-
-def floor_seen(live: OccupancyMap, before: np.ndarray | None, on: GridGeometry | None) -> np.ndarray:
-    """On ``live``'s grid: the cells ``live`` sees free, and those ``before`` (on the grid ``on``)
-    saw free: where a person can stand, which a wall never was."""
-    seen = (live.occupancy >= FREE) & (live.occupancy <= FREE_MAX)
-    return seen if before is None else seen | paste(before, on, live.geometry, False)
-
-
-def without(live: OccupancyMap, people: Sequence[tuple[float, float, float]], margin: float,
-            floor: np.ndarray | None = None) -> OccupancyMap:
-    """``live`` with the cells within radius + ``margin`` of each track (x, y, radius; map frame)
-    made unknown, of those seen free before (``floor``, on ``live``'s grid; all when None): what
-    the structure is read from. SLAM writes in a person who stands still, and a
-    worker standing within a gap's closing (0.1 m) of a wall, a bench or their own cart pushed
-    against one became part of that long component, so explained, so no longer a person: the
-    robot drove past a grower paused at the end of a cross aisle at 0.15 m (safety.people seed 3,
-    773-779 s), whose cart then turned back through it. Whatever is being tracked is never taken
-    for the greenhouse; once they are gone, their cells join whatever they touch again. Only
-    floor is cut: a false track on a wall (its seen centre shifting as the robot drives by) would
-    otherwise keep that wall from ever being explained, and so itself alive, for good."""
-    if not people:
-        return live
-    mask = np.zeros(live.occupancy.shape, np.uint8)
-    res = live.resolution
-    for x, y, r in people:
-        ix, iy = live.geometry.cell_of(x, y)
-        cv2.circle(mask, (int(ix), int(iy)), int(np.ceil((r + margin) / res)), 1, -1)
-    cut = live.occupancy.copy()
-    cut[mask.astype(bool) & (True if floor is None else floor)] = UNKNOWN
-    return replace(live, occupancy=cut)
-
-
-def seen_free(live: OccupancyMap, on: GridGeometry, margin: float) -> np.ndarray:
-    """On the grid ``on``: the cells ``live`` knows to be free with nothing occupied within
-    ``margin``. A worker standing in the first map (at the dock, on their round) is not the
-    greenhouse: once they walk off, the cells they stood on are seen free, and the first map
-    stops explaining them (people-crossing-no-yield: a grower whose round starts beside the first
-    pot was explained away each time they came back to stand there). The margin keeps a crate or
-    a pot's rim, drawn a cell off in the first map, from wearing away at its edges."""
-    v = paste(live.occupancy, live.geometry, on, np.int8(UNKNOWN))
-    cells = int(np.ceil(margin / on.resolution))
-    k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * cells + 1, 2 * cells + 1))
-    near = cv2.dilate((v >= OCCUPIED_MIN).astype(np.uint8), k).astype(bool)
-    return (v >= FREE) & (v <= FREE_MAX) & ~near
 
 
 def attach_people(robot: "Robot", map_to_odom: Callable[[], Pose2D],

@@ -1,12 +1,12 @@
 """Someone who stood in the first map: their legs, found where only that map explains returns.
 
-The tracker's scene (``mission.runtime.people``) takes the map as it stood at the start of the
-patrol for the greenhouse, so that a worker standing still later is not written away by SLAM.
-The other side of it: a worker already standing there when that map was made, on a round of one
-spot all patrol long (spec/world.md: a standing worker's one-point path), is part of the
+The tracker's scene (``mission.runtime.greenhouse``) takes the map as it stood at the start of
+the patrol for the greenhouse, so that a worker standing still later is not written away by
+SLAM. The other side of it: a worker already standing there when that map was made, on a round
+of one spot all patrol long (spec/world.md: a standing worker's one-point path), is part of the
 greenhouse for good. They never walk off, so their cells are never seen free
-(``seen_free``), and the robot drove up to them as to a crate: safety.people held-out seed 109,
-784-788 s, a grower standing at (6.6, 2.5) since the start, untracked from 1.3 m in, passed at
+(``greenhouse.seen_free``), and the robot drove up to them as to a crate: safety.people held-out
+seed 109, 784-788 s, a grower standing at (6.6, 2.5) since the start, untracked from 1.3 m in, passed at
 0.11 m.
 
 So the tracker's leg pass runs on what the structure and the known pots leave, the first map's

@@ -11,7 +11,8 @@ import numpy as np
 
 from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
-from mission.runtime.people import LEG_SCANS, LEGS_SEEN, LOST_KEEP, People, floor_seen, kept, without
+from mission.runtime.greenhouse import floor_seen, kept, without
+from mission.runtime.people import LEG_SCANS, LEGS_SEEN, LOST_KEEP, People
 from mission.runtime.stood_at_start import FORGET, REACH, SEEN, StoodAtStart, clear_round
 from nav.grid_geometry import GridGeometry
 from nav.frames import compose
