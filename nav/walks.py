@@ -16,6 +16,14 @@ the tracker's velocity now: a cart's velocity swings +-20 deg scan to scan as it
 pusher's legs come and go in the scan, and a lane read from it swung across the cross aisle it
 walked (safety.people seed 2, 1,403 s: the lane 0.4 m east of the robot one tick and 0.2 m west
 of it the next, the robot's way out of it flipping with it).
+
+Someone who has paused within ``YIELDED`` of the robot has stopped for it (``stopped_for_robot``):
+such a person stops for it again, so their whole walk back is not kept out of
+(``way_back``), only the next steps of it either way, as for anyone paused. Kept out of it, a
+grower pacing the aisle of the pots the robot came for closed the whole aisle at every pause at
+either end, and the robot, let in only while they walked away, never got to a pot mid-aisle
+before they came back (safety.people seed 109, 973-1,040 s: P14, four tries, failed). A walker
+who does not yield never stops for the robot, and their walk back stays kept out of (seed 2).
 """
 from __future__ import annotations
 
@@ -79,14 +87,19 @@ class Walks:
         """Each strider's (when, x, y) over the last ``HEADING_OVER`` s and one before, by id."""
         self._turns: list[tuple[float, float, float, float]] = []
         """(x, y, reach, when) of every turn seen within ``TURN_KEPT`` (odom)."""
+        self._stopped_for: dict[int, float] = {}
+        """When each person by id was last seen paused within ``YIELDED`` of the robot."""
 
     def __call__(self) -> list[Person]:
         """The people now (``PeopleSource``); each read remembers the striders' walks."""
         people = list(self.people())
         now = self.clock()
         for p in people:
-            if self.paused(p) is not None and self.gap(p) > YIELDED:
-                self._turned(p, now)
+            if self.paused(p) is not None:
+                if self.gap(p) > YIELDED:
+                    self._turned(p, now)
+                else:
+                    self._stopped_for[p.id] = now
             if math.hypot(p.vx, p.vy) <= STRIDING:
                 self._trail.pop(p.id, None)  # turning or pausing: the next stride's heading starts afresh
                 continue
@@ -101,7 +114,7 @@ class Walks:
             vx, vy = self._stride(p)
             on = before is not None and now - before.when <= HEADING_OVER and before.vx * vx + before.vy * vy > 0.0
             self._last[p.id] = Stride(vx, vy, now, walked, before.start if on else (p.x, p.y))
-        for kept in (self._last, self._trail):
+        for kept in (self._last, self._trail, self._stopped_for):
             while len(kept) > KEPT:
                 del kept[next(iter(kept))]
         return people
@@ -158,11 +171,17 @@ class Walks:
 
     def way_back(self, person: Person) -> tuple[float, float] | None:
         """From a paused ``person`` back to where their last walk began (odom), or None when
-        they are not paused (``paused``): a pacer turns and walks the whole of it again."""
-        if self.paused(person) is None:
+        they are not paused (``paused``) or have stopped for the robot before
+        (``stopped_for_robot``): a pacer turns and walks the whole of it again, and one who
+        yields stops for the robot in it."""
+        if self.paused(person) is None or self.stopped_for_robot(person):
             return None
         walk = self._walk(person)
         return walk.start[0] - person.x, walk.start[1] - person.y
+
+    def stopped_for_robot(self, person: Person) -> bool:
+        """Has ``person`` been seen paused within ``YIELDED`` of the robot (module docstring)?"""
+        return person.id in self._stopped_for
 
     def walked(self, person: Person) -> bool:
         """Has ``person`` been seen to walk (``HEADING_WALKED``), now or before a pause?"""

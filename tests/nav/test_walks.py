@@ -184,3 +184,32 @@ def test_a_paused_pacers_way_back_is_their_whole_last_walk():
     back = walks.way_back(p)
     assert back is not None and math.hypot(back[0], back[1] + 4.5) < 0.3, back
     assert walks.way_back(Person(7, 1.0, 4.0, 0.0, 0.5, 0.4, 0.9)) is None  # walking: not paused
+
+
+def test_someone_who_stopped_for_the_robot_has_no_walk_back_kept_a_pacer_turning_does():
+    """Seed 109, 973-1,040 s: a grower pacing the aisle of the pots the robot came for closed
+    it whole at every pause at either end. One seen paused within ``YIELDED`` of the robot
+    stops for it again: their next steps either way are kept out of, their walk back is not;
+    a walker who pauses far from it (a turn at the end of their walk) keeps theirs."""
+    t, gap, now = [0.0], [3.0], [Person(7, 2.0, 3.0, 0.0, -1.0, 0.25, 0.9)]
+    walks = Walks(lambda: now, lambda: t[0], lambda p: gap[0])
+
+    def walk_south_and_pause(pid: int) -> Person:
+        for k in range(11):
+            t[0] += 0.1
+            now[:] = [Person(pid, 2.0, 3.0 - 0.1 * k, 0.0, -1.0, 0.25, 0.9)]
+            walks()
+        t[0] += 1.0
+        now[:] = [Person(pid, 2.0, 2.0, 0.0, 0.0, 0.25, 0.9)]
+        walks()
+        return now[0]
+
+    turner = walk_south_and_pause(7)  # paused 3 m from the robot: the end of their walk
+    assert walks.paused(turner) == (0.0, -1.0) and walks.way_back(turner) == (0.0, 1.0)
+    assert not walks.stopped_for_robot(turner)
+    gap[0] = 0.3
+    yielder = walk_south_and_pause(8)  # paused 0.3 m from the robot: stopped for it
+    assert walks.paused(yielder) == (0.0, -1.0) and walks.way_back(yielder) is None
+    gap[0] = 3.0
+    later = walk_south_and_pause(8)  # paused far off later, at the end of their walk: still one who yields
+    assert walks.stopped_for_robot(later) and walks.way_back(later) is None
