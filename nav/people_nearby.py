@@ -91,14 +91,6 @@ class PeopleNearby:
         their next steps included (``ahead``) or where they are now only?"""
         return any(to_segment(np.array([x, y]), a, b if ahead else a) < r for a, b, r in self.in_map(people))
 
-    def nearer(self, xy: tuple[float, float], here: tuple[float, float]) -> bool:
-        """Is the map point ``xy`` inside someone's keep-out where they stand now, and nearer
-        them than ``here`` by more than ``TOUCH`` (a tracker's jitter)? Stepping from ``here``
-        to ``xy`` would then close on them; a step along or away from them would not."""
-        goal, robot = np.array(xy), np.array(here)
-        return any(d < r and d < float(np.hypot(*(robot - a))) - TOUCH
-                   for a, _, r in self.in_map() for d in [float(np.hypot(*(goal - a)))])
-
     def in_a_walkers_keep_out(self, x: float, y: float) -> bool:
         """Is the map point within the keep-out of someone seen to walk (``Walks.walked``)? A
         grower who stopped for the robot walks on once it is out of their way; a worker who

@@ -76,10 +76,10 @@ class Waits:
     def _waiting_for_people(self, now: float, dt: float) -> bool:
         """Hold still while a person stands in the only way or on the goal (module docstring).
         True while waiting (zero twist published) or when the wait ran out."""
-        why, finishing = "", self._finishing()  # ``FINISH``: only someone the goal is nearer holds it
+        why, finishing = "", self._finishing()  # ``FINISH``: only someone on the goal now holds it
         if self._person_blocks and not finishing:
             why = f"{self._whom()} in the only way"
-        elif self._goal_taken(finishing):
+        elif self.people.in_keep_out(self.goal.x, self.goal.y, ahead=not finishing):
             why = f"{self._whom()} at the goal"
         if why != self.waiting_for:
             if why:
@@ -114,19 +114,6 @@ class Waits:
             return False
         self.path = np.array([[pose.x, pose.y], [self.goal.x, self.goal.y]])
         return True
-
-    def _goal_taken(self, finishing: bool) -> bool:
-        """Is the goal inside someone's keep-out (their next steps included)? Within ``FINISH``
-        only where they stand now, and only if the goal is nearer them than the robot stands
-        (``nav.people_nearby.PeopleNearby.nearer``): a grower who stopped for the robot at arm's
-        length beside its goal waits for it to finish and leave, and holding for them there,
-        the two waited for each other until the goal timed out (safety.people seed 107,
-        680-740 s: a cart pusher 0.3 m east of a robot 0.23 m north of P45's approach pose,
-        three times 60 s, and the pot failed)."""
-        if not finishing:
-            return self.people.in_keep_out(self.goal.x, self.goal.y)
-        pose = self.map_pose()
-        return self.people.nearer((self.goal.x, self.goal.y), (pose.x, pose.y))
 
     def _finishing(self) -> bool:
         """Is the robot within ``FINISH`` of its goal?"""

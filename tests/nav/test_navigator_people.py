@@ -239,26 +239,6 @@ def test_a_robot_centimetres_from_its_goal_finishes_its_approach_while_the_walke
     assert far.nav.waiting_for == LANE
 
 
-def test_a_robot_beside_a_grower_who_stopped_for_it_finishes_its_approach_but_not_onto_them():
-    """Seed 107, 680-740 s: a cart pusher stopped 0.3 m east of the robot, 0.23 m north of its
-    goal, and the robot held for "a person at the goal" (inside their keep-out) until the goal
-    timed out, three times. Within ``FINISH`` it finishes a step that brings it no nearer
-    anyone; one onto them (the goal nearer them than it stands) is still waited for."""
-    beside = Person(20, START.x + 0.6, START.y, 0.0, 0.0, 0.2, 0.9)  # keep-out 0.72 m: goal and robot inside
-    south = Pose2D(START.x, START.y - 0.2, -math.pi / 2)
-    rig = Rig([beside])
-    walked_up(rig, beside)
-    rig.nav.navigate_to(south, 0.0, timeout=60.0)
-    rig.run(0.5)
-    assert rig.nav.waiting_for == "" and rig.published[-1][1] != ZERO_TWIST
-    towards = Pose2D(START.x + 0.2, START.y, 0.0)  # the same 0.2 m, onto them
-    rig = Rig([beside])
-    walked_up(rig, beside)
-    rig.nav.navigate_to(towards, 0.0, timeout=60.0)
-    rig.run(0.5)
-    assert rig.nav.waiting_for == "a person at the goal" and rig.published[-1][1].vx <= 0.0  # waits, or steps back
-
-
 def test_a_robot_inside_a_persons_keep_out_plans_its_way_out_never_nearer_them():
     """Seed 107, 470 s: a cart pusher stopped for the robot at arm's length, the robot inside
     their keep-out had no start to plan from, and the two waited for each other for 400 s. The
