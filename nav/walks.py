@@ -17,13 +17,16 @@ pusher's legs come and go in the scan, and a lane read from it swung across the 
 walked (safety.people seed 2, 1,403 s: the lane 0.4 m east of the robot one tick and 0.2 m west
 of it the next, the robot's way out of it flipping with it).
 
-Someone who has paused within ``YIELDED`` of the robot has stopped for it (``stopped_for_robot``):
-such a person stops for it again, so their whole walk back is not kept out of
+Someone who has paused within ``YIELDED`` of the robot and then walked on the way they were
+going has stopped for it (``stopped_for_robot``): such a person stops for it again, so their whole walk back is not kept out of
 (``way_back``), only the next steps of it either way, as for anyone paused. Kept out of it, a
 grower pacing the aisle of the pots the robot came for closed the whole aisle at every pause at
 either end, and the robot, let in only while they walked away, never got to a pot mid-aisle
 before they came back (safety.people seed 109, 973-1,040 s: P14, four tries, failed). A walker
-who does not yield never stops for the robot, and their walk back stays kept out of (seed 2).
+who does not yield never stops for the robot, and their walk back stays kept out of (seed 2); one
+who paused near it at the end of their walk turns back, which is no stop for it: taken for one,
+a cart that does not yield had its walk back let go and walked into the robot at the south end
+of its cross aisle (stop 58's first try, held-out seed 106, 508 s).
 """
 from __future__ import annotations
 
@@ -87,8 +90,11 @@ class Walks:
         """Each strider's (when, x, y) over the last ``HEADING_OVER`` s and one before, by id."""
         self._turns: list[tuple[float, float, float, float]] = []
         """(x, y, reach, when) of every turn seen within ``TURN_KEPT`` (odom)."""
+        self._stopped_near: dict[int, tuple[float, float]] = {}
+        """The walk of each person by id seen paused within ``YIELDED`` of the robot, until
+        they stride again: on the same way, they had stopped for it; back, they had turned."""
         self._stopped_for: dict[int, float] = {}
-        """When each person by id was last seen paused within ``YIELDED`` of the robot."""
+        """When each person by id last walked on after stopping for the robot."""
 
     def __call__(self) -> list[Person]:
         """The people now (``PeopleSource``); each read remembers the striders' walks."""
@@ -99,7 +105,7 @@ class Walks:
                 if self.gap(p) > YIELDED:
                     self._turned(p, now)
                 else:
-                    self._stopped_for[p.id] = now
+                    self._stopped_near[p.id] = self.paused(p)
             if math.hypot(p.vx, p.vy) <= STRIDING:
                 self._trail.pop(p.id, None)  # turning or pausing: the next stride's heading starts afresh
                 continue
@@ -112,12 +118,21 @@ class Walks:
             walked = (before is not None and before.walked) \
                 or math.hypot(p.x - trail[0][1], p.y - trail[0][2]) >= HEADING_WALKED
             vx, vy = self._stride(p)
+            self._walked_on(p.id, vx, vy, now)
             on = before is not None and now - before.when <= HEADING_OVER and before.vx * vx + before.vy * vy > 0.0
             self._last[p.id] = Stride(vx, vy, now, walked, before.start if on else (p.x, p.y))
-        for kept in (self._last, self._trail, self._stopped_for):
+        for kept in (self._last, self._trail, self._stopped_near, self._stopped_for):
             while len(kept) > KEPT:
                 del kept[next(iter(kept))]
         return people
+
+    def _walked_on(self, pid: int, vx: float, vy: float, now: float) -> None:
+        """A stride of ``pid``'s after a pause near the robot: walking on the way they came,
+        they had stopped for it (``stopped_for_robot``); turned back, the pause was the end of
+        their walk, the robot beside it by chance (module docstring)."""
+        walk = self._stopped_near.pop(pid, None)
+        if walk is not None and walk[0] * vx + walk[1] * vy > 0.0:
+            self._stopped_for[pid] = now
 
     def _turned(self, person: Person, now: float) -> None:
         """Remember that ``person`` turns where they pause now (the latest sight of a turn

@@ -188,9 +188,10 @@ def test_a_paused_pacers_way_back_is_their_whole_last_walk():
 
 def test_someone_who_stopped_for_the_robot_has_no_walk_back_kept_a_pacer_turning_does():
     """Seed 109, 973-1,040 s: a grower pacing the aisle of the pots the robot came for closed
-    it whole at every pause at either end. One seen paused within ``YIELDED`` of the robot
-    stops for it again: their next steps either way are kept out of, their walk back is not;
-    a walker who pauses far from it (a turn at the end of their walk) keeps theirs."""
+    it whole at every pause at either end. One seen paused within ``YIELDED`` of the robot who
+    then walks on the way they were going stops for it again: their next steps either way are
+    kept out of, their walk back is not; a walker who pauses far from it, or near it and turns
+    back (the end of their walk: seed 106, 508 s, a cart that does not yield), keeps theirs."""
     t, gap, now = [0.0], [3.0], [Person(7, 2.0, 3.0, 0.0, -1.0, 0.25, 0.9)]
     walks = Walks(lambda: now, lambda: t[0], lambda p: gap[0])
 
@@ -208,8 +209,15 @@ def test_someone_who_stopped_for_the_robot_has_no_walk_back_kept_a_pacer_turning
     assert walks.paused(turner) == (0.0, -1.0) and walks.way_back(turner) == (0.0, 1.0)
     assert not walks.stopped_for_robot(turner)
     gap[0] = 0.3
-    yielder = walk_south_and_pause(8)  # paused 0.3 m from the robot: stopped for it
-    assert walks.paused(yielder) == (0.0, -1.0) and walks.way_back(yielder) is None
+    ender = walk_south_and_pause(9)  # paused 0.3 m from the robot at the end of their walk ...
+    now[:] = [Person(9, 2.0, 2.0, 0.0, 0.9, 0.25, 0.9)]  # ... and turned back north: no stop for it
+    walks()
+    assert not walks.stopped_for_robot(now[0])
+    yielder = walk_south_and_pause(8)  # paused 0.3 m from the robot ...
+    assert walks.way_back(yielder) == (0.0, 1.0)  # not yet known to have stopped for it
     gap[0] = 3.0
+    t[0] += 0.1
+    now[:] = [Person(8, 2.0, 1.9, 0.0, -0.9, 0.25, 0.9)]  # ... walks on south: it had stopped for the robot
+    walks()
     later = walk_south_and_pause(8)  # paused far off later, at the end of their walk: still one who yields
-    assert walks.stopped_for_robot(later) and walks.way_back(later) is None
+    assert walks.stopped_for_robot(later) and walks.paused(later) == (0.0, -1.0) and walks.way_back(later) is None
