@@ -70,22 +70,6 @@ class PeopleNearby:
         now, then = transform_points(m2o, now), transform_points(m2o, then)
         return [(a, b, self.keep_out(p)) for a, b, p in zip(now, then, people)]
 
-    def paused_walks(self) -> list[tuple[np.ndarray, np.ndarray, float]]:
-        """(from, to, keep_out) of each counted paused walker's walk, map frame: their last
-        stride's ``predict_time`` both ways, and back to where it began (``nav.walks``)."""
-        out = []
-        m2o, t = self.map_to_odom(), self.layer.predict_time
-        for p in self.counted():
-            walk = self.people.paused(p)
-            if walk is None:
-                continue
-            back = self.people.way_back(p)
-            ends = [(p.x + walk[0] * t, p.y + walk[1] * t), (p.x - walk[0] * t, p.y - walk[1] * t)]
-            ends += [] if back is None else [(p.x + back[0], p.y + back[1])]
-            pts = transform_points(m2o, np.array([(p.x, p.y), *ends], dtype=float))
-            out += [(pts[0], end, self.keep_out(p)) for end in pts[1:]]
-        return out
-
     def in_keep_out(self, x: float, y: float, ahead: bool = True, people: list[Person] | None = None) -> bool:
         """Is the map point within a person's keep-out (of everyone counted, or of ``people``),
         their next steps included (``ahead``) or where they are now only?"""
@@ -113,16 +97,11 @@ class PeopleNearby:
         as the robot stands now. A grower who stopped for the robot at arm's length waits for it
         to leave their way; planning from inside their keep-out had no start, and the robot
         stood there with them (safety.people seed 107, 470 s: a cart pusher and the robot
-        waited for each other for 400 s at the end of the north aisle). A paused walker's walk
-        is laid in too, both ways and back to where it began (``paused_walks``), as the
-        planner's person layer lays it: the way out of one keep-out must not lead into a
-        pacer's lane (seed 107, 741-752 s: out of a yielding cart pusher's keep-out the way led
-        west across the end of a cross aisle whose cart, paused at its far end, came back up it
-        and into the robot)."""
+        waited for each other for 400 s at the end of the north aisle)."""
         data, geo = free.data.copy(), free.geometry
         cx, cy = geo.centre_of(np.arange(geo.width)[None, :], np.arange(geo.height)[:, None])
         here = np.array([x, y])
-        for a, b, keep_out in self.in_map() + self.paused_walks():
+        for a, b, keep_out in self.in_map():
             reach = min(keep_out, to_segment(here, a, b) - free.resolution)
             data[to_segments(cx, cy, a, b) < reach] = LETHAL
         return CostGrid(data, free.resolution, free.origin_x, free.origin_y)
