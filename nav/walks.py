@@ -90,9 +90,10 @@ class Walks:
         """Each strider's (when, x, y) over the last ``HEADING_OVER`` s and one before, by id."""
         self._turns: list[tuple[float, float, float, float]] = []
         """(x, y, reach, when) of every turn seen within ``TURN_KEPT`` (odom)."""
-        self._stopped_near: dict[int, tuple[float, float]] = {}
-        """The walk of each person by id seen paused within ``YIELDED`` of the robot, until
-        they stride again: on the same way, they had stopped for it; back, they had turned."""
+        self._stopped_near: dict[int, tuple[float, float, float, float]] = {}
+        """The walk (vx, vy) of each person by id seen paused within ``YIELDED`` of the robot,
+        and where (x, y), until they have walked ``HEADING_WALKED`` from there: on the way they
+        were going, they had stopped for it; back, they had turned."""
         self._stopped_for: dict[int, float] = {}
         """When each person by id last walked on after stopping for the robot."""
 
@@ -104,8 +105,9 @@ class Walks:
             if self.paused(p) is not None:
                 if self.gap(p) > YIELDED:
                     self._turned(p, now)
-                else:
-                    self._stopped_near[p.id] = self.paused(p)
+                elif p.id not in self._stopped_near:
+                    self._stopped_near[p.id] = (*self.paused(p), p.x, p.y)
+            self._walked_on(p, now)
             if math.hypot(p.vx, p.vy) <= STRIDING:
                 self._trail.pop(p.id, None)  # turning or pausing: the next stride's heading starts afresh
                 continue
@@ -118,7 +120,6 @@ class Walks:
             walked = (before is not None and before.walked) \
                 or math.hypot(p.x - trail[0][1], p.y - trail[0][2]) >= HEADING_WALKED
             vx, vy = self._stride(p)
-            self._walked_on(p.id, vx, vy, now)
             on = before is not None and now - before.when <= HEADING_OVER and before.vx * vx + before.vy * vy > 0.0
             self._last[p.id] = Stride(vx, vy, now, walked, before.start if on else (p.x, p.y))
         for kept in (self._last, self._trail, self._stopped_near, self._stopped_for):
@@ -126,13 +127,22 @@ class Walks:
                 del kept[next(iter(kept))]
         return people
 
-    def _walked_on(self, pid: int, vx: float, vy: float, now: float) -> None:
-        """A stride of ``pid``'s after a pause near the robot: walking on the way they came,
-        they had stopped for it (``stopped_for_robot``); turned back, the pause was the end of
-        their walk, the robot beside it by chance (module docstring)."""
-        walk = self._stopped_near.pop(pid, None)
-        if walk is not None and walk[0] * vx + walk[1] * vy > 0.0:
-            self._stopped_for[pid] = now
+    def _walked_on(self, person: Person, now: float) -> None:
+        """Once ``person`` is ``HEADING_WALKED`` from where they paused near the robot: walked
+        on the way they were going, they had stopped for it (``stopped_for_robot``); back, the
+        pause was the end of their walk, the robot beside it by chance (module docstring). Read
+        from where they got to, not a velocity: a cart turning round swings its tracked centre
+        every way for a moment."""
+        seen = self._stopped_near.get(person.id)
+        if seen is None:
+            return
+        vx, vy, x, y = seen
+        along = ((person.x - x) * vx + (person.y - y) * vy) / max(math.hypot(vx, vy), 1e-9)
+        if abs(along) < HEADING_WALKED:
+            return
+        del self._stopped_near[person.id]
+        if along > 0.0:
+            self._stopped_for[person.id] = now
 
     def _turned(self, person: Person, now: float) -> None:
         """Remember that ``person`` turns where they pause now (the latest sight of a turn

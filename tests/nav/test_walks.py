@@ -210,14 +210,19 @@ def test_someone_who_stopped_for_the_robot_has_no_walk_back_kept_a_pacer_turning
     assert not walks.stopped_for_robot(turner)
     gap[0] = 0.3
     ender = walk_south_and_pause(9)  # paused 0.3 m from the robot at the end of their walk ...
-    now[:] = [Person(9, 2.0, 2.0, 0.0, 0.9, 0.25, 0.9)]  # ... and turned back north: no stop for it
-    walks()
+    for k in range(1, 5):  # ... and turned back north, swinging south a moment: no stop for it
+        t[0] += 0.1
+        now[:] = [Person(9, 2.0, 2.0 + 0.1 * k, 0.0, -0.9 if k == 1 else 0.9, 0.25, 0.9)]
+        walks()
     assert not walks.stopped_for_robot(now[0])
     yielder = walk_south_and_pause(8)  # paused 0.3 m from the robot ...
     assert walks.way_back(yielder) == (0.0, 1.0)  # not yet known to have stopped for it
     gap[0] = 3.0
-    t[0] += 0.1
-    now[:] = [Person(8, 2.0, 1.9, 0.0, -0.9, 0.25, 0.9)]  # ... walks on south: it had stopped for the robot
-    walks()
-    later = walk_south_and_pause(8)  # paused far off later, at the end of their walk: still one who yields
-    assert walks.stopped_for_robot(later) and walks.paused(later) == (0.0, -1.0) and walks.way_back(later) is None
+    for k in range(1, 5):  # ... walks on south: it had stopped for the robot
+        t[0] += 0.1
+        now[:] = [Person(8, 2.0, 2.0 - 0.1 * k, 0.0, -0.9, 0.25, 0.9)]
+        walks()
+    t[0] += 1.0
+    now[:] = [Person(8, 2.0, 1.6, 0.0, 0.0, 0.25, 0.9)]  # paused far off later, at the end of their walk
+    (later,) = walks()  # still one who yields
+    assert walks.stopped_for_robot(later) and walks.paused(later) is not None and walks.way_back(later) is None
