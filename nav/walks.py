@@ -18,8 +18,9 @@ walked (safety.people seed 2, 1,403 s: the lane 0.4 m east of the robot one tick
 of it the next, the robot's way out of it flipping with it).
 
 Someone who has paused within ``YIELDED`` of the robot and then walked on the way they were
-going has stopped for it (``stopped_for_robot``): such a person stops for it again, so their whole walk back is not kept out of
-(``way_back``), only the next steps of it either way, as for anyone paused. Kept out of it, a
+going has stopped for it (``stopped_for_robot``): such a person stops for it again, so their
+whole walk back is not kept out of (``way_back``), only the next steps of it either way, as for
+anyone paused. Kept out of it, a
 grower pacing the aisle of the pots the robot came for closed the whole aisle at every pause at
 either end, and the robot, let in only while they walked away, never got to a pot mid-aisle
 before they came back (safety.people seed 109, 973-1,040 s: P14, four tries, failed). A walker
@@ -205,7 +206,8 @@ class Walks:
         return walk.start[0] - person.x, walk.start[1] - person.y
 
     def stopped_for_robot(self, person: Person) -> bool:
-        """Has ``person`` been seen paused within ``YIELDED`` of the robot (module docstring)?"""
+        """Has ``person`` been seen to stop within ``YIELDED`` of the robot and walk on the way
+        they were going (module docstring)?"""
         return person.id in self._stopped_for
 
     def walked(self, person: Person) -> bool:
