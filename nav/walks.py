@@ -16,18 +16,6 @@ the tracker's velocity now: a cart's velocity swings +-20 deg scan to scan as it
 pusher's legs come and go in the scan, and a lane read from it swung across the cross aisle it
 walked (safety.people seed 2, 1,403 s: the lane 0.4 m east of the robot one tick and 0.2 m west
 of it the next, the robot's way out of it flipping with it).
-
-Someone who has paused within ``YIELDED`` of the robot and then walked on the way they were
-going has stopped for it (``stopped_for_robot``): such a person stops for it again, so their
-whole walk back is not kept out of (``way_back``), only the next steps of it either way, as for
-anyone paused. Kept out of it, a
-grower pacing the aisle of the pots the robot came for closed the whole aisle at every pause at
-either end, and the robot, let in only while they walked away, never got to a pot mid-aisle
-before they came back (safety.people seed 109, 973-1,040 s: P14, four tries, failed). A walker
-who does not yield never stops for the robot, and their walk back stays kept out of (seed 2); one
-who paused near it at the end of their walk turns back, which is no stop for it: taken for one,
-a cart that does not yield had its walk back let go and walked into the robot at the south end
-of its cross aisle (stop 58's first try, held-out seed 106, 508 s).
 """
 from __future__ import annotations
 
@@ -91,24 +79,14 @@ class Walks:
         """Each strider's (when, x, y) over the last ``HEADING_OVER`` s and one before, by id."""
         self._turns: list[tuple[float, float, float, float]] = []
         """(x, y, reach, when) of every turn seen within ``TURN_KEPT`` (odom)."""
-        self._stopped_near: dict[int, tuple[float, float, float, float]] = {}
-        """The walk (vx, vy) of each person by id seen paused within ``YIELDED`` of the robot,
-        and where (x, y), until they have walked ``HEADING_WALKED`` from there: on the way they
-        were going, they had stopped for it; back, they had turned."""
-        self._stopped_for: dict[int, float] = {}
-        """When each person by id last walked on after stopping for the robot."""
 
     def __call__(self) -> list[Person]:
         """The people now (``PeopleSource``); each read remembers the striders' walks."""
         people = list(self.people())
         now = self.clock()
         for p in people:
-            if self.paused(p) is not None:
-                if self.gap(p) > YIELDED:
-                    self._turned(p, now)
-                elif p.id not in self._stopped_near:
-                    self._stopped_near[p.id] = (*self.paused(p), p.x, p.y)
-            self._walked_on(p, now)
+            if self.paused(p) is not None and self.gap(p) > YIELDED:
+                self._turned(p, now)
             if math.hypot(p.vx, p.vy) <= STRIDING:
                 self._trail.pop(p.id, None)  # turning or pausing: the next stride's heading starts afresh
                 continue
@@ -123,27 +101,10 @@ class Walks:
             vx, vy = self._stride(p)
             on = before is not None and now - before.when <= HEADING_OVER and before.vx * vx + before.vy * vy > 0.0
             self._last[p.id] = Stride(vx, vy, now, walked, before.start if on else (p.x, p.y))
-        for kept in (self._last, self._trail, self._stopped_near, self._stopped_for):
+        for kept in (self._last, self._trail):
             while len(kept) > KEPT:
                 del kept[next(iter(kept))]
         return people
-
-    def _walked_on(self, person: Person, now: float) -> None:
-        """Once ``person`` is ``HEADING_WALKED`` from where they paused near the robot: walked
-        on the way they were going, they had stopped for it (``stopped_for_robot``); back, the
-        pause was the end of their walk, the robot beside it by chance (module docstring). Read
-        from where they got to, not a velocity: a cart turning round swings its tracked centre
-        every way for a moment."""
-        seen = self._stopped_near.get(person.id)
-        if seen is None:
-            return
-        vx, vy, x, y = seen
-        along = ((person.x - x) * vx + (person.y - y) * vy) / max(math.hypot(vx, vy), 1e-9)
-        if abs(along) < HEADING_WALKED:
-            return
-        del self._stopped_near[person.id]
-        if along > 0.0:
-            self._stopped_for[person.id] = now
 
     def _turned(self, person: Person, now: float) -> None:
         """Remember that ``person`` turns where they pause now (the latest sight of a turn
@@ -197,18 +158,11 @@ class Walks:
 
     def way_back(self, person: Person) -> tuple[float, float] | None:
         """From a paused ``person`` back to where their last walk began (odom), or None when
-        they are not paused (``paused``) or have stopped for the robot before
-        (``stopped_for_robot``): a pacer turns and walks the whole of it again, and one who
-        yields stops for the robot in it."""
-        if self.paused(person) is None or self.stopped_for_robot(person):
+        they are not paused (``paused``): a pacer turns and walks the whole of it again."""
+        if self.paused(person) is None:
             return None
         walk = self._walk(person)
         return walk.start[0] - person.x, walk.start[1] - person.y
-
-    def stopped_for_robot(self, person: Person) -> bool:
-        """Has ``person`` been seen to stop within ``YIELDED`` of the robot and walk on the way
-        they were going (module docstring)?"""
-        return person.id in self._stopped_for
 
     def walked(self, person: Person) -> bool:
         """Has ``person`` been seen to walk (``HEADING_WALKED``), now or before a pause?"""
