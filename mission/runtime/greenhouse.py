@@ -6,8 +6,8 @@ person: the map as it stood when the patrol started plus the pots the mission li
 (``perception.people.explained.StaticScene``: not the live SLAM map as it is, which writes in a
 worker who stands still). So it is built once the patrol says which pots it knows
 (``People.watch``), and frozen at the map of the first tick that has one (SLAM's first map from
-the dock, or the saved one AMCL localises on). A patrol mapping from the dock has seen little of its walls then,
-and every wall it meets later, broken into short arcs by the pots in front and grazing angles,
+the dock, or the saved one AMCL localises on). A patrol mapping from the dock has seen little of
+its walls then, and every wall it meets later, broken into short arcs by the pots in front and grazing angles,
 would be a person: the default patrol took 244 s of robot time instead of 123, slowed and held
 by walls. So the scene also takes in, each time SLAM hands a new map, its *structure*: the
 occupied components longer than any person (``max_extent``, the tracker's own bound, bounding-box
@@ -56,7 +56,8 @@ class Greenhouse:
         self._long: np.ndarray | None = None
         """The live map's structure, on its grid (``nav.structure``)."""
 
-    def see(self, live: Optional[OccupancyMap], tracked: Callable[[], list[tuple[float, float, float]]]) -> None:
+    def see(self, live: Optional[OccupancyMap],
+            tracked: Callable[[], list[tuple[float, float, float]]]) -> None:
         """Take in ``live`` if it is a new map (the first one becomes the first map); ``tracked``
         gives what is tracked now (x, y, radius; map frame), cut from where the structure is read."""
         if live is self._live or live is None:
@@ -66,7 +67,8 @@ class Greenhouse:
         self._floor = floor_seen(live, self._floor, None if self._live is None else self._live.geometry)
         self._live = live
         self._left |= self._first.occupied() & seen_free(live, self._first.geometry, self.config.margin)
-        self._long = long_components(without(live, tracked(), self.config.margin, self._floor), self.config.max_extent)
+        cut = without(live, tracked(), self.config.margin, self._floor)
+        self._long = long_components(cut, self.config.max_extent)
         self._freeze()
 
     def clear(self, spots: list[tuple[float, float]]) -> None:

@@ -6,8 +6,8 @@ SLAM. The other side of it: a worker already standing there when that map was ma
 of one spot all patrol long (spec/world.md: a standing worker's one-point path), is part of the
 greenhouse for good. They never walk off, so their cells are never seen free
 (``greenhouse.seen_free``), and the robot drove up to them as to a crate: safety.people held-out
-seed 109, 784-788 s, a grower standing at (6.6, 2.5) since the start, untracked from 1.3 m in, passed at
-0.11 m.
+seed 109, 784-788 s, a grower standing at (6.6, 2.5) since the start, untracked from 1.3 m in,
+passed at 0.11 m.
 
 So the tracker's leg pass runs on what the structure and the known pots leave, the first map's
 returns included (one pass a scan, as the tracks' legs need anyway; a second pass of its own put
@@ -17,8 +17,9 @@ of returns only the first map explains, within ``RANGE``, found on ``SEEN`` scan
 ``SAME`` of the last, is someone standing; the first map's cells within ``REACH`` of them stop
 explaining anything, and from the next scan they are a track like anyone unmapped, shown a
 person by their legs as ever. Not on those returns alone: a leg half outside the first map's
-cells is two slivers, no leg (seed 109's grower was never found so). A crouching worker there from the start is one low block, a crate to the
-lidar: not found by this (the issue's front camera would have to tell them apart).
+cells is two slivers, no leg (seed 109's grower was never found so). A crouching worker there
+from the start is one low block, a crate to the lidar: not found by this (the issue's front
+camera would have to tell them apart).
 """
 from __future__ import annotations
 
@@ -48,6 +49,8 @@ a crate beside the worker is seen again the next time the map is frozen."""
 RANGE = 3.0
 """Only returns this near the lidar count as the first map's alone, m: a leg at 3 m is ~6 of the
 C1's returns, and someone farther off is not yet within the speed rule's 1 m."""
+
+
 class StoodAtStart:
     """Counts pairs of legs by spot over the scans; a spot seen ``SEEN`` times is someone."""
 
@@ -70,7 +73,8 @@ class StoodAtStart:
         return sure
 
 
-def first_only(points: np.ndarray, lidar_xy: np.ndarray, explained: np.ndarray, bare: np.ndarray) -> np.ndarray:
+def first_only(points: np.ndarray, lidar_xy: np.ndarray, explained: np.ndarray,
+               bare: np.ndarray) -> np.ndarray:
     """(M, 2) the returns of ``points`` within ``RANGE`` of the lidar that only the first map
     explains (``explained`` by the whole scene, not ``bare``: its structure and known pots)."""
     near = np.hypot(points[:, 0] - lidar_xy[0], points[:, 1] - lidar_xy[1]) <= RANGE
