@@ -8,6 +8,8 @@
    the pose goes on by wheel odometry alone, and the next scan is searched for round it
    (``relocate``: whoever covered the lidar may have shoved the robot);
 2. registers it against the local voxel map, wheel odometry giving the guess (``lidar_odometry``);
+   a scan no pose in reach fits (a shove the wheels did not feel, past the correspondence gate)
+   is searched for and, until one fits, coasted over as in 1;
 3. every ``keyframe_distance`` / ``keyframe_angle`` adds a pose-graph node joined to the last by
    the registered motion, looks for a revisit and, on an accepted loop match, optimises the
    graph (``loop_closure``, ``pose_graph``) and starts re-rendering the region it moved from the
@@ -165,6 +167,8 @@ class Mapper:
             ranges = np.where(people, np.inf, ranges)
         points = scan_points(angles, ranges, self.mount, cfg.min_range, cfg.max_range)
         lo = self.odometry.register(points, odom)
+        if lo is None:  # no pose in reach fits it: somewhere the wheels did not take it
+            return self._coast(odom)
         if self._new_keyframe(lo):
             self._add_keyframe(lo, points)
         k = len(self._kf_lo) - 1
@@ -182,8 +186,8 @@ class Mapper:
         return self._done(odom)
 
     def _coast(self, odom: Pose2D) -> Pose2D:
-        """A blind scan (``SlamConfig.blind``), or one mostly hidden by people against the robot
-        (``HIDDEN``): the pose moves by wheel odometry alone, and nothing of the scan is
+        """A blind scan (``SlamConfig.blind``), one mostly hidden by people against the robot
+        (``HIDDEN``), or one no pose in reach fits (``nav.slam.lidar_odometry.FIT``): the pose moves by wheel odometry alone, and nothing of the scan is
         registered, kept or drawn; a pending re-render goes on. The next scan registered is
         searched for (``nav.slam.relocate``)."""
         self.pose = compose(self._correction(), self.odometry.coast(odom))

@@ -24,6 +24,7 @@ median, the replay beside a running benchmark).
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -45,6 +46,12 @@ INLIER = 0.1
 """A point within this of the map is explained by it, m (one voxel)."""
 REFINED = 6
 """Candidates refined by registration, the best scored first."""
+WIDE_REACH = 2.0
+"""The wider window's reach, m, searched when the near one finds no pose the scan fits
+(``nav.slam.lidar_odometry.FIT``): safety.people seed 106 at 563.4-565.0 s, a cart that does not
+yield shoved the robot 1.3 m and turned it 0.39 rad in 1.6 s, past ``REACH`` and ``TURN``."""
+WIDE_TURN = 0.6
+"""The wider window's heading reach either way, rad."""
 
 
 @njit(cache=True)
@@ -72,25 +79,33 @@ def fitted(xy: np.ndarray, local: VoxelMap, pose: Pose2D) -> int:
                        local.voxel, pose.x, pose.y, pose.yaw, np.zeros((1, 2)), np.zeros(1), INLIER)[0, 0])
 
 
-def _window() -> np.ndarray:
-    steps = np.arange(-REACH, REACH + 1e-9, SPACING)
+def _window(reach: float) -> np.ndarray:
+    steps = np.arange(-reach, reach + 1e-9, SPACING)
     gx, gy = np.meshgrid(steps, steps)
-    keep = np.hypot(gx, gy) <= REACH + 1e-9
+    keep = np.hypot(gx, gy) <= reach + 1e-9
     return np.column_stack([gx[keep], gy[keep]])
 
 
-OFFSETS = _window()
-TURNS = np.arange(-TURN, TURN + 1e-9, TURN_STEP)
+class Window(NamedTuple):
+    """Where round the guess the robot is looked for: (x, y) offsets and heading turns."""
+
+    offsets: np.ndarray
+    turns: np.ndarray
 
 
-def relocate(xy: np.ndarray, local: VoxelMap, guess: Pose2D, gate: float, kernel: float) -> Pose2D:
-    """The pose of the scan ``xy`` (N, 2, ``base_link``) in ``local`` found over the window round
+NEAR = Window(_window(REACH), np.arange(-TURN, TURN + 1e-9, TURN_STEP))
+WIDE = Window(_window(WIDE_REACH), np.arange(-WIDE_TURN, WIDE_TURN + 1e-9, TURN_STEP))
+
+
+def relocate(xy: np.ndarray, local: VoxelMap, guess: Pose2D, gate: float, kernel: float,
+             window: Window = NEAR) -> Pose2D:
+    """The pose of the scan ``xy`` (N, 2, ``base_link``) in ``local`` found over ``window`` round
     ``guess`` (module docstring); registered as usual from the best scored candidates."""
     pts = np.ascontiguousarray(xy[:, :2], dtype=np.float64)
     scores = _scores(pts, local.keys, local.count, local.points, local.voxel, guess.x, guess.y, guess.yaw,
-                     OFFSETS, TURNS, INLIER)
+                     window.offsets, window.turns, INLIER)
     best = np.argsort(scores, axis=None)[::-1][:REFINED]
-    starts = [guess] + [Pose2D(guess.x + OFFSETS[o, 0], guess.y + OFFSETS[o, 1], guess.yaw + TURNS[t])
+    starts = [guess] + [Pose2D(guess.x + window.offsets[o, 0], guess.y + window.offsets[o, 1], guess.yaw + window.turns[t])
                         for o, t in zip(*np.unravel_index(best, scores.shape))]
     fits = [align(pts, local, s, gate, kernel) for s in starts]
     counts = [fitted(pts, local, p) for p in fits]
