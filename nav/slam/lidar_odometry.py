@@ -63,16 +63,16 @@ def kiss_config(cfg: SlamConfig) -> KISSConfig:
 
 
 FIT = 0.7
-"""Share of a scan's points (at least ``FIT_POINTS`` of them) its registered pose must put within
-a voxel of the local map, or the registration is not taken: the robot is somewhere the guess
-and the correspondence gate cannot reach, so the scan is searched for (``nav.slam.relocate``),
-and while no pose in reach fits it is coasted over, not drawn. safety.people seed 106, 563.4-565.0 s:
-a cart that does not yield, its returns left out as a person's pressing on the robot, shoved it
-1.3 m in 1.6 s; registration followed at ~4 cm a scan with 29-55 % of the points fitted, each
-scan went into the local map where it was wrongly placed, and from then on the scans fitted
-that (98-100 %) a metre and 0.56 rad from the truth: every goal after was boxed in by walls
-drawn across the robot, 21 pots failed and the robot never got home. Over its 5,626 scans
-before the shove the least share fitted was 0.96 (p1 0.99)."""
+"""Share of a scan's points within the local map's reach (at least ``FIT_POINTS`` of them) its
+registered pose must put within a voxel of the local map, or the registration is not taken:
+the robot is somewhere the guess and the correspondence gate cannot reach, so the scan is
+searched for (``nav.slam.relocate``), and while no pose in reach fits it is coasted over, not
+drawn. safety.people seed 106, 563.4-565.0 s: a cart that does not yield, its returns left out
+as a person's pressing on the robot, shoved it 1.3 m in 1.6 s; registration followed at ~4 cm a
+scan with 29-55 % of the points fitted, each scan went into the local map where it was wrongly
+placed, and from then on the scans fitted that (98-100 %) a metre and 0.56 rad from the truth:
+every goal after was boxed in by walls drawn across the robot, 21 pots failed and the robot
+never got home. Over its 5,626 scans before the shove the least share fitted was 0.96 (p1 0.99)."""
 FIT_POINTS = 30
 """Fewer points than this are too few to judge a fit by."""
 WIDE_EVERY = 10
@@ -87,6 +87,7 @@ class LidarOdometry:
     def __init__(self, cfg: SlamConfig, start: Pose2D = Pose2D()):
         kc = kiss_config(cfg)
         self._voxel = cfg.voxel_size
+        self._reach = cfg.local_map_range
         self.local_map = VoxelMap(cfg.voxel_size, cfg.local_map_range, cfg.max_points_per_voxel)
         self.threshold = get_threshold_estimator(kc)
         self.pose = start
@@ -134,7 +135,10 @@ class LidarOdometry:
         return new
 
     def _fits(self, fine: np.ndarray, pose: Pose2D) -> bool:
-        return len(fine) < FIT_POINTS or fitted(fine, self.local_map, pose) >= FIT * len(fine)
+        """Does ``pose`` put ``FIT`` of the scan's points within the local map's reach on it?
+        (Beyond its reach the local map holds nothing to explain them by.)"""
+        held = fine[np.hypot(fine[:, 0], fine[:, 1]) <= self._reach]
+        return len(held) < FIT_POINTS or fitted(held, self.local_map, pose) >= FIT * len(held)
 
     def _search(self, fine: np.ndarray, guess: Pose2D, gate: float, kernel: float) -> Pose2D | None:
         """The scan's pose over the near window, or the wide one (every ``WIDE_EVERY`` scans

@@ -187,9 +187,9 @@ class Mapper:
 
     def _coast(self, odom: Pose2D) -> Pose2D:
         """A blind scan (``SlamConfig.blind``), one mostly hidden by people against the robot
-        (``HIDDEN``), or one no pose in reach fits (``nav.slam.lidar_odometry.FIT``): the pose moves by wheel odometry alone, and nothing of the scan is
-        registered, kept or drawn; a pending re-render goes on. The next scan registered is
-        searched for (``nav.slam.relocate``)."""
+        (``HIDDEN``), or one no pose in reach fits (``nav.slam.lidar_odometry.FIT``): the pose
+        moves by wheel odometry alone, and nothing of the scan is registered, kept or drawn; a
+        pending re-render goes on. The next scan registered is searched for (``nav.slam.relocate``)."""
         self.pose = compose(self._correction(), self.odometry.coast(odom))
         self.blind_scans += 1
         return self._done(odom)
