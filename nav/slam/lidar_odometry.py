@@ -94,9 +94,9 @@ class LidarOdometry:
         """The latest registered pose of ``base_link`` in this odometry's frame."""
         self._odom: Pose2D | None = None
         self.lost = False
-        """Was the last scan coasted over (too blind, or hidden by people against the robot)?
-        Then the next one registered is searched for over a window (``nav.slam.relocate``): a
-        cart over the lidar may have been shoving the robot."""
+        """Was the last scan coasted over (too blind, hidden by people against the robot, or
+        fitted nowhere in reach: ``FIT``)? Then the next one is searched for over a window
+        (``nav.slam.relocate``): a cart over the lidar may have been shoving the robot."""
         self.relocations = 0
         """Scans searched for so far."""
         self.unfitted = 0

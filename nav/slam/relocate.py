@@ -105,7 +105,8 @@ def relocate(xy: np.ndarray, local: VoxelMap, guess: Pose2D, gate: float, kernel
     scores = _scores(pts, local.keys, local.count, local.points, local.voxel, guess.x, guess.y, guess.yaw,
                      window.offsets, window.turns, INLIER)
     best = np.argsort(scores, axis=None)[::-1][:REFINED]
-    starts = [guess] + [Pose2D(guess.x + window.offsets[o, 0], guess.y + window.offsets[o, 1], guess.yaw + window.turns[t])
+    (dx, dy), turns = window.offsets.T, window.turns
+    starts = [guess] + [Pose2D(guess.x + dx[o], guess.y + dy[o], guess.yaw + turns[t])
                         for o, t in zip(*np.unravel_index(best, scores.shape))]
     fits = [align(pts, local, s, gate, kernel) for s in starts]
     counts = [fitted(pts, local, p) for p in fits]
