@@ -113,7 +113,7 @@ class LidarOdometry:
     def register(self, points: np.ndarray, odom: Pose2D) -> Pose2D | None:
         """Register one scan's ``base_link`` points (N, 3); ``odom`` is the wheel odometry pose
         when it was taken. Returns the new pose, or None when no pose in reach fits the scan
-        (``FIT``): the pose is then the guess and the scan must be coasted over."""
+        (``FIT``): it is then coasted over here (the pose is the guess), and not to be drawn."""
         guess = self._moved(odom)
         fine = voxel_down_sample(points, self._voxel * 0.5)
         if self.local_map.empty():
@@ -125,8 +125,9 @@ class LidarOdometry:
                 self.threshold.update_model_deviation(to_matrix(compose(inverse(guess), new)))
             else:  # a shove the wheels did not feel is no prediction error to learn from
                 new = self._search(fine, guess, 3 * sigma, sigma)
-            if new is None:
-                self.pose = guess  # ``coast`` takes it from here
+            if new is None:  # coasted over, as ``coast`` would
+                self.pose, self.lost = guess, True
+                self._lost_for += 1
                 self.unfitted += 1
                 return None
         self.lost, self._lost_for = False, 0

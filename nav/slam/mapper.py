@@ -168,7 +168,7 @@ class Mapper:
         points = scan_points(angles, ranges, self.mount, cfg.min_range, cfg.max_range)
         lo = self.odometry.register(points, odom)
         if lo is None:  # no pose in reach fits it: somewhere the wheels did not take it
-            return self._coast(odom)
+            return self._coasted(self.odometry.pose, odom)
         if self._new_keyframe(lo):
             self._add_keyframe(lo, points)
         k = len(self._kf_lo) - 1
@@ -190,7 +190,11 @@ class Mapper:
         (``HIDDEN``), or one no pose in reach fits (``nav.slam.lidar_odometry.FIT``): the pose
         moves by wheel odometry alone, and nothing of the scan is registered, kept or drawn; a
         pending re-render goes on. The next scan registered is searched for (``nav.slam.relocate``)."""
-        self.pose = compose(self._correction(), self.odometry.coast(odom))
+        return self._coasted(self.odometry.coast(odom), odom)
+
+    def _coasted(self, lo: Pose2D, odom: Pose2D) -> Pose2D:
+        """The map pose of a scan coasted over at ``lo`` (lidar odometry frame)."""
+        self.pose = compose(self._correction(), lo)
         self.blind_scans += 1
         return self._done(odom)
 
