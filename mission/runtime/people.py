@@ -389,7 +389,8 @@ def attach_people(robot: "Robot", map_to_odom: Callable[[], Pose2D],
     people = People(cfg.perception.people, robot.hal.lidar.latest_scan, lambda: base.odometry.pose,
                     Pose2D(*cfg.nav.navigator.lidar_mount), map_to_odom, occupancy)
     people.guard = base.guard = PeopleGuard(cfg.hw.people_guard, lambda: base.odometry.pose,
-                                            cfg.nav.costmap.robot_radius, people.confident, below=base.guard)
+                                            cfg.nav.costmap.robot_radius, people.confident, below=base.guard,
+                                            returns=lambda: robot.monitor.points)
     robot.people = people
     robot.scheduler.every("people", RATE, people.tick)
     return people

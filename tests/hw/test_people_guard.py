@@ -104,6 +104,27 @@ def test_people_are_in_odom_and_towards_is_judged_in_the_base_frame():
     assert g.judge(Twist(0.0, 0.1, 0.0)) == Twist(0.0, 0.1, 0.0)  # body +y is odom -x: across
 
 
+def test_a_step_away_from_a_carts_middle_is_not_let_towards_its_corner():
+    """A cart's track is one circle round pusher and cart; its scan returns say where the body
+    ends. A strafe away from the circle's centre that closes on the cart's nearest corner is
+    stopped by the returns, not by the circle (safety.people, seed 111 at 2,019 s)."""
+    cart = Person(1, 0.5, 0.55, 0.0, 0.0, 0.45, 0.9)  # 0.07 m off by its circle
+    corner = np.array([[0.35, 0.12], [0.55, 0.12], [0.35, 0.3]])  # its near face, 0.15 m off
+    pot = np.array([[0.3, -0.2]])  # close by, but not on the cart's body
+    step = Twist(0.07, -0.08, 0.0)  # away from the circle's centre, towards the corner
+    wait = PeopleGuardConfig().still_wait
+    by_circle = PeopleGuard(PeopleGuardConfig(), Pose2D, R, lambda: (cart,), returns=lambda: pot)
+    by_circle.judge(step, 0.0)  # standing: at arm's length by the circle, waited out first
+    assert by_circle.judge(step, wait) == step
+    g = PeopleGuard(PeopleGuardConfig(), Pose2D, R, lambda: (cart,), returns=lambda: np.vstack([corner, pot]))
+    assert g.judge(step, 0.0) == Twist(0.0, 0.0, 0.0) and g.verdict.action == STILL
+    out = g.judge(step, wait)
+    v = np.array([out.vx, out.vy])
+    assert g.verdict.action == AWAY and 0.0 < speed(out) < speed(step)
+    assert v @ corner[0] <= 1e-9 and v @ np.array([cart.x, cart.y]) <= 1e-9  # from the corner and the middle
+    assert g.verdict.nearest == pytest.approx(math.hypot(0.5, 0.55) - 0.45 - R)
+
+
 def test_unsure_tracks_do_not_count():
     g = guard(at(0.8, 0.0, confidence=0.3))
     assert g.judge(Twist(0.3, 0.0, 0.0)) == Twist(0.3, 0.0, 0.0)
