@@ -116,6 +116,13 @@ class PatrolConfig(BaseModel):
     approach pose) must end this close to it, m, not within the goal checker's 0.25 m: a pot
     pushed among its neighbours leaves MPPI room to stop short, and from 0.2 m off the wrist
     camera can miss the bloom. Failing that, one approach within the usual tolerance."""
+    later_goes: int = Field(2, ge=0)
+    """Goes a pot the robot could not get to has after the other pots, each round after the last,
+    before it is recorded failed. In a greenhouse people work in, what keeps the robot from a pot
+    is mostly someone working the only aisle to it, and they move on or come back: one more go
+    found the same grower there in safety.people's patrols (stop 59: 14 of 144 pots lost, each
+    after its one later go, beside growers pacing their aisle), a go minutes after that a
+    different moment. Each round costs only the pots still not got to."""
     search_radius: float = Field(1.0, gt=0)
     """No tag where the pot should be: the pots the map shows within this distance of the
     mission's position are looked at for it before the pot is declared ``not_found``, m."""

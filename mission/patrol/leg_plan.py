@@ -25,6 +25,11 @@ if TYPE_CHECKING:
     from mission.patrol.tree import PatrolTree
 
 
+def later_label(pot_id: str, go: int) -> str:
+    """The tree's name for ``pot_id``'s go number ``go``: ``P01``, ``P01 later``, ``P01 later 2``."""
+    return pot_id if go == 0 else f"{pot_id} later" + (f" {go}" if go > 1 else "")
+
+
 class PatrolLegs:
     """The legs of one patrol tree; ``Legs`` asks it for each leg and each way home."""
 
@@ -74,14 +79,16 @@ class PatrolLegs:
             self.tree.order = self.tree._order(left)
         self._gate_why = ""
         order = [p for p in self.tree.order if not self.tree.visits[p.id].done]
+        goes = range(self.tree.config.later_goes + 1)
         return Sequence(f"leg {len(self.tree.legs.legs) + 1}", memory=True,
-                        children=[self._gated(p) for p in order] + [self._gated(p, later=True) for p in order])
+                        children=[self._gated(p, go) for go in goes for p in order])
 
-    def _gated(self, pot: MissionPot, later: bool = False) -> Sequence:
+    def _gated(self, pot: MissionPot, go: int = 0) -> Sequence:
+        """``pot``'s go number ``go`` (0: its first), after its energy check."""
         visit = self.tree.visits[pot.id]
 
         def enough() -> bool:
-            if visit.done or (later and not visit.deferred):
+            if visit.done or (go and not visit.deferred):
                 return True
             here, goal = self.tree.nav.map_pose(), self.tree.approach_goal(pot)
             why = self.tree.energy.check_pot((here.x, here.y), (goal.x, goal.y))
@@ -89,9 +96,9 @@ class PatrolLegs:
                 self._gate_why = f"before {pot.id}: {why}"
             return not why
 
-        label = f"{pot.id} later" if later else pot.id
+        label = later_label(pot.id, go)
         return Sequence(f"{label} (energy)", memory=True,
-                        children=[Check(f"charge for {label}", enough), self.tree._pot(pot, later)])
+                        children=[Check(f"charge for {label}", enough), self.tree._pot(pot, go)])
 
     def gate_failed(self) -> str:
         return self._gate_why

@@ -35,11 +35,13 @@
                                                                 or note what failed
                       record P01
                       stow arm P01                              arm to travel, or note it
-                    P01 failed                                the first time, defers the pot (someone
-                                                              may be in the way); the second, records
-                                                              it failed (unreachable)
+                    P01 failed                                defers the pot (someone may be in the
+                                                              way); on its last go, records it
+                                                              failed (unreachable)
                 ...
                 P01 later                                 OneShot: only a deferred pot, once more
+                ...
+                P01 later 2                               ... and so on, ``patrol.later_goes`` rounds
                 ...
               watch tags                                tags read en route (discovered_tags)
             finish                                    return home (or note), park arm (or note)
@@ -72,8 +74,8 @@ budget (``mission.patrol.energy``) checks that the pot and the way back leave th
 the dock, and on the way that the dock is still within reach; when not, the robot goes home,
 charges, and does the pots left in a fresh order from the dock.
 
-A pot the robot could not get to is tried again after the others (its ``later`` branch), then
-recorded failed; the patrol goes on: every pot branch succeeds. Only the start-up
+A pot the robot could not get to is tried again after the others (its ``later`` branches, one
+round each), then recorded failed; the patrol goes on: every pot branch succeeds. Only the start-up
 gate (heal, readiness) can fail the tree. The tag is read first, right at arrival, while the arm
 is still in its travel pose (the front camera does not need the arm).
 """
@@ -111,7 +113,7 @@ from mission.patrol.holds import MissionHolds
 from mission.patrol.inspect_view import InspectView
 from mission.patrol.lidar_loss import LidarLoss
 from mission.patrol.mission_file import Mission, MissionPot
-from mission.patrol.leg_plan import PatrolLegs
+from mission.patrol.leg_plan import PatrolLegs, later_label
 from mission.patrol.pot_finder import PotFinder
 from mission.patrol.visit_order import visit_order
 from nav.path_lengths import lengths_from, path_lengths
@@ -300,12 +302,14 @@ class PatrolTree:
         paused = Hold("operator pause", mission, self.holds.pause_reason)
         return Hold("Lupin patrol", Hold("lidar lost", paused, self.lidar.reason), self.holds.estop)
 
-    def _pot(self, pot: MissionPot, later: bool = False) -> Behaviour:
-        """The pot's branch; ``later``: its second go, after the other pots, taken only when the
-        first failed to get there. In a greenhouse people work in, what stops a robot from a
-        pot (someone in the only aisle, a cart left on the approach pose) usually moves on: the
-        pot is tried again once everything else is done, and recorded failed only then."""
+    def _pot(self, pot: MissionPot, go: int = 0) -> Behaviour:
+        """The pot's branch for its go number ``go``: 0 its first; from 1 its later goes, each
+        round after the other pots, taken only while the goes before failed to get there. In a
+        greenhouse people work in, what stops a robot from a pot (someone in the only aisle, a
+        cart left on the approach pose) usually moves on: the pot is tried again once everything
+        else is done (``patrol.later_goes`` rounds), and recorded failed only then."""
         c, visit = self.config, self.visits[pot.id]
+        later, last = go > 0, go >= c.later_goes
         cams, clock = self.cameras, self.clock
 
         def fail(step: str) -> Callable[[str], None]:
@@ -353,8 +357,8 @@ class PatrolTree:
         def pot_failed() -> None:
             reason = "; ".join(taken) or why(approach)
             taken.clear()
-            if not later and "search" not in visit.failures:
-                visit.deferred, visit.arrived, visit.aside = reason, None, ""
+            if not last and "search" not in visit.failures:
+                visit.deferred, visit.arrived, visit.aside = visit.deferred or reason, None, ""
                 visit.failures.clear()
                 return
             if "search" not in visit.failures:
@@ -378,7 +382,7 @@ class PatrolTree:
         if later:
             branch = Selector(f"{pot.id} later?", memory=True, children=[
                 Check(f"{pot.id} done", lambda: not visit.deferred or visit.done), branch])
-        return OneShot(f"{pot.id} later" if later else pot.id, branch, OneShotPolicy.ON_COMPLETION)
+        return OneShot(later_label(pot.id, go), branch, OneShotPolicy.ON_COMPLETION)
 
     def _find(self, pot: MissionPot, visit: PotVisit) -> Selector:
         """The pot's own tag placed the pot (or it has none to look for, or another tag is
