@@ -110,7 +110,7 @@ class PeopleNearby:
         """Is the robot (at ``odom``) in the lane of someone walking its way (module docstring)?"""
         here = np.array([odom.x, odom.y])
         walking = [p for p in self.counted()
-                   if math.hypot(p.vx, p.vy) > WALKING and (here - [p.x, p.y]) @ self.people.velocity(p) > 0.0]
+                   if math.hypot(p.vx, p.vy) > WALKING and (here - [p.x, p.y]) @ [p.vx, p.vy] > 0.0]
         if not walking:
             return False
         now, then = self._segments(walking, self.layer.lane_time)
@@ -157,9 +157,8 @@ class PeopleNearby:
     def _segments(self, people: list[Person], reach: float | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Each person now and ``reach`` seconds on (``predict_time`` when None), odom frame."""
         t = self.layer.predict_time if reach is None else reach
-        now = np.array([[p.x, p.y] for p in people], dtype=float).reshape(-1, 2)
-        v = np.array([self.people.velocity(p) for p in people], dtype=float).reshape(-1, 2)
-        return now, now + v * t
+        odom = np.array([[p.x, p.y, p.x + p.vx * t, p.y + p.vy * t] for p in people])
+        return odom[:, :2], odom[:, 2:]
 
 
 def to_segments(x: np.ndarray, y: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:

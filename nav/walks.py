@@ -136,18 +136,6 @@ class Walks:
         speed = math.hypot(person.vx, person.vy)
         return speed * dx / walked, speed * dy / walked
 
-    def velocity(self, person: Person) -> tuple[float, float]:
-        """``person``'s velocity to predict their next steps along (odom): a strider's headed
-        where they walked (``_stride``), anyone slower the tracker's. Every prediction reads
-        this, the costmaps' stretches, the keep-outs ahead and the lanes: a walker pacing the
-        next aisle read at 0.6 m/s towards the robot one scan (a leg lost behind a pot) put
-        the robot's goal in their keep-out, and a grower crossing 3 m off, read 0.4 m/s
-        sideways, laid their lane over the robot (safety.people seed 108, 1,480 s and 1,486 s:
-        P24's approach given up)."""
-        if math.hypot(person.vx, person.vy) > STRIDING:
-            return self._stride(person)
-        return person.vx, person.vy
-
     def last(self, person: Person) -> tuple[float, float]:
         """``person``'s velocity, or, slower than a stride, that of their last walk (odom), if
         they were seen to walk (``paused``)."""

@@ -76,8 +76,7 @@ class PersonLayer:
         out = []
         for p in seen:
             q = compose(t, Pose2D(p.x, p.y, 0.0))
-            vx, vy = self.people.velocity(p)  # a strider's heading is where they walked (``nav.walks``)
-            out.append(Person(p.id, q.x, q.y, c * vx - s * vy, s * vx + c * vy, p.radius, p.confidence))
+            out.append(Person(p.id, q.x, q.y, c * p.vx - s * p.vy, s * p.vx + c * p.vy, p.radius, p.confidence))
         return out
 
     def apply(self, master: np.ndarray, geometry: GridGeometry) -> np.ndarray:

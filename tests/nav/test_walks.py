@@ -184,25 +184,3 @@ def test_a_paused_pacers_way_back_is_their_whole_last_walk():
     back = walks.way_back(p)
     assert back is not None and math.hypot(back[0], back[1] + 4.5) < 0.3, back
     assert walks.way_back(Person(7, 1.0, 4.0, 0.0, 0.5, 0.4, 0.9)) is None  # walking: not paused
-
-
-def test_lanes_and_keep_outs_ahead_go_where_a_strider_walked():
-    """A grower crossing north 1.5 m off, the tracker reading 0.4 m/s sideways at them on the last
-    scan (safety.people seed 108, 1,486 s): the lane and the keep-out ahead follow where they
-    walked, and the robot beside their way is not in it; read off the velocity now, it was."""
-    clock = [0.0]
-    now: list[Person] = []
-    walks = Walks(lambda: now, lambda: clock[0])
-    nearby = PeopleNearby(NavConfig(), walks, Pose2D)
-    robot = Pose2D(1.5, 3.0, 0.0)
-    for k in range(12):  # 10 Hz, walking north along x = 0
-        clock[0] = 0.1 * k
-        now[:] = [Person(4, 0.0, 0.1 * k, 0.0, 1.0, 0.25, 0.9)]
-        walks()
-    swung = Person(4, 0.0, 1.2, 0.45, 0.9, 0.25, 0.9)  # this scan's velocity points at the robot
-    now[:] = [swung]
-    clock[0] = 1.2
-    assert not nearby.in_lane(robot)
-    (a, b, _), = nearby.in_map()
-    assert abs(b[0] - a[0]) < 0.02 and b[1] - a[1] > 0.9  # a second of their walk: north
-    assert PeopleNearby(NavConfig(), lambda: [swung], Pose2D).in_lane(robot)  # a first sight: as read
