@@ -78,8 +78,7 @@ waiting robot) to mend them, so from then on the figure is on the next seeds; 10
 at stop 57 (a worker standing since the first map, ``mission.runtime.stood_at_start``); 106 at stop
 59 (a shove SLAM followed at 29-55 % of each scan fitted and drew the map a metre out,
 ``nav.slam.lidar_odometry.FIT``); 108, 110 and 111 at stop 60 (a step away from a cart's middle
-towards its corner, ``hw.people_guard``; a lane and a keep-out ahead read off one scan's velocity,
-``nav.walks.Walks.velocity``; a pot given up after one later go beside a pacer,
+towards its corner, ``hw.people_guard``; a pot given up after one later go beside a pacer,
 ``patrol.later_goes``)."""
 ROWS, PER_ROW, BAYS = 6, 4, 2
 CLOSEST = 5
