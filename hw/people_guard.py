@@ -50,6 +50,7 @@ def no_returns() -> np.ndarray:
     """The returns source with no scan: the people's circles alone."""
     return np.empty((0, 2))
 
+
 NONE, SLOW, AWAY, STILL = "none", "slow", "away", "still"
 
 
