@@ -85,7 +85,9 @@ def test_locks_through_the_router_follow_liveliness_and_nobody_asks_in_anothers_
         table, spied = [], []
         r2.declare_subscriber(AISLES, lambda s: table.append(s.payload.to_bytes()))
         c1, c2 = AisleLockClient(r1, "r1"), AisleLockClient(r2, "r2")
-        assert c1.ask([A]) is not None and not c1.ask([A]).granted  # no liveliness token yet: no lock
+        # the arbiter's queryable reaches the router a moment after it is declared
+        assert wait_for(lambda: c1.ask([A]) is not None)
+        assert not c1.ask([A]).granted  # no liveliness token yet: no lock
         tokens = [r1.liveliness().declare_token(alive_key("r1")), r2.liveliness().declare_token(alive_key("r2"))]
         assert wait_for(lambda: server.roster.robots() == ["r1", "r2"])
         assert c1.ask([A]).granted
