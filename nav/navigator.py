@@ -137,6 +137,9 @@ class Sources:
     """True while the collision monitor keeps the base from driving where it was told."""
     people: PeopleSource = nobody
     """The person tracker's people, ``odom`` frame (the costmaps' person layers read the same)."""
+    escape: Callable[[float], Twist] = lambda speed: ZERO_TWIST
+    """A step at this speed straight away from the people the guard holds the base from, base
+    frame (``hw.people_guard.PeopleGuard.escape``); zero when there is none."""
 
 
 class Navigator(Waits, WayOut, Recovery):
@@ -173,6 +176,10 @@ class Navigator(Waits, WayOut, Recovery):
         self.held_for = 0.0
         """Seconds this goal has waited, held by the collision monitor or for a person in the
         way (``blocked_wait``)."""
+        self._held_since: float | None = None
+        """Since when the base has been held without a break (``nav.waits.ESCAPE_AFTER``)."""
+        self._escape_until = -math.inf
+        """Until when the robot steps straight away from the people holding it."""
         self.waiting_for = ""
         """Why the goal waits for people now ('' while it does not)."""
         self._person_blocks = self._start_blocked = False
@@ -202,6 +209,7 @@ class Navigator(Waits, WayOut, Recovery):
         self._recoveries = self._replans = self._plan_failures = 0
         self._checkpoint = None
         self.held_for = 0.0
+        self._held_since, self._escape_until = None, -math.inf
         self.waiting_for, self._person_blocks, self._start_blocked = "", False, False
         self._last_attempt = -math.inf
         self.path = None

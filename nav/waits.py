@@ -16,6 +16,7 @@ import numpy as np
 
 from hw.interfaces import ZERO_TWIST, Twist
 from hw.odometry import Pose2D
+from nav.people_nearby import NEAR_SPEED
 from nav.planner import PlanningError
 
 log = logging.getLogger("nav.navigator")
@@ -39,6 +40,14 @@ ROBOT_LANE = "out of a robot's way"
 #: (safety.people stop 55: 14 of its 20 failed pots). A person who yields stops for a robot
 #: standing still; the rules bind its moving (issue 28 item 2).
 FINISH = 0.25
+#: Held this long (s) without a break while it steps out of the way, the robot steps straight
+#: away from the people holding it instead, for ``ESCAPE_TIME`` (``hw.people_guard``'s
+#: ``escape``: safety.people seed 113, 675-3,074 s, held still between a worker and a cart
+#: that waited for it). Longer than a tick or two of the guard trimming a step, well short of
+#: ``person_wait``.
+ESCAPE_AFTER = 3.0
+#: How long one escape lasts, s: about 0.3 m at ``NEAR_SPEED``, out of a person's reach.
+ESCAPE_TIME = 2.0
 
 
 class Waits:
@@ -63,7 +72,10 @@ class Waits:
         who stopped for the robot, waiting for it to leave their way), the robot steps back
         from them instead of pressing on, for up to ``person_wait``: pressing on, robot and
         grower waited for each other until the goal failed."""
+        if self._escaping(now, dt):
+            return True
         if not self.io.held():
+            self._held_since = None
             return False
         back = self._evade(self.people.layer.wait_clearance) if self.people.counted() else ZERO_TWIST
         if back == ZERO_TWIST:
@@ -71,6 +83,23 @@ class Waits:
         self.smoother.reset()
         if not self._hold(now, dt, "a person close by", self.config.navigator.person_wait):
             self.io.publish(back, now)
+        return True
+
+    def _escaping(self, now: float, dt: float) -> bool:
+        """Held ``ESCAPE_AFTER`` on end, step straight away from the people holding the robot
+        for ``ESCAPE_TIME`` (while there is such a step); True while stepping."""
+        if self.io.held() and self._held_since is None:
+            self._held_since = now
+        if self._held_since is not None and now - self._held_since > ESCAPE_AFTER:
+            self._held_since, self._escape_until = None, now + ESCAPE_TIME
+            log.info("held %.0f s between people: stepping straight away from them", ESCAPE_AFTER)
+        step = self.io.escape(NEAR_SPEED) if now < self._escape_until else ZERO_TWIST
+        if step == ZERO_TWIST:
+            self._escape_until = -math.inf
+            return False
+        self.smoother.reset()
+        if not self._hold(now, dt, "a person close by", self.config.navigator.person_wait):
+            self.io.publish(step, now)
         return True
 
     def _waiting_for_people(self, now: float, dt: float) -> bool:

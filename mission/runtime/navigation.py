@@ -58,6 +58,7 @@ def attach_navigation(robot: Robot, localisation: Localisation | None = None) ->
         publish=lambda twist, now: robot.mux.publish(AUTO, twist, now),
         estop=robot.estop.engaged,
         held=lambda: robot.monitor.verdict.holding or people.guard.verdict.holding,
+        escape=people.guard.escape,
         people=walks,
     )
     gcm = global_costmap(cfg.costmap, walks, lambda: localisation.map_to_odom())

@@ -97,6 +97,24 @@ def test_two_people_either_side_ahead_stop_the_robot_between_them():
     assert g.judge(Twist(-0.15, 0.0, 0.0)) == Twist(-0.15, 0.0, 0.0)
 
 
+def test_between_two_people_nearly_opposite_the_way_square_to_both_stays_open():
+    """A standing worker 0.45 m to one side, a cart 0.2 m to the other (safety.people seed 113 at
+    675 s): a step that closes on the worker loses just that part and slides out between them;
+    taking the parts out one by one used to stop it, and the cart, which yields, waited for good."""
+    worker, cart = at(0.77, 0.5, 0.27), at(-0.56, -0.61, 0.47)
+    g = guard(worker, cart)
+    step = Twist(-0.025, 0.147, 0.0)  # to a refuge past the worker's shoulder
+    wait = PeopleGuardConfig().still_wait
+    g.judge(step, 0.0)  # the cart at arm's length: waited out first
+    out = g.judge(step, wait)
+    v, s = np.array([out.vx, out.vy]), np.array([step.vx, step.vy])
+    u = np.array([worker.x, worker.y]) / math.hypot(worker.x, worker.y)
+    assert g.verdict.action == AWAY and not g.verdict.holding
+    assert v == pytest.approx(s - (s @ u) * u)  # the least taken out: the part towards the worker
+    assert v @ u == pytest.approx(0.0, abs=1e-9) and v @ np.array([cart.x, cart.y]) <= 1e-9
+    assert speed(g.judge(Twist(0.1, 0.06, 0.0), wait)) == pytest.approx(0.0)  # straight at the worker: nothing
+
+
 def test_people_are_in_odom_and_towards_is_judged_in_the_base_frame():
     # the robot at (2, 1) facing +y: a person at odom (2, 1.8) is straight ahead of it
     g = guard(at(2.0, 1.8), pose=Pose2D(2.0, 1.0, math.pi / 2))
