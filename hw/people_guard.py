@@ -142,18 +142,22 @@ class PeopleGuard:
         tracks' circles, and between two people a step the circles allow can close on a cart's
         corner that the returns show (safety.people seed 113 at 675 s: a standing worker on
         one side, a cart that yields on the other, the robot held still between them for
-        2,400 s while the cart waited for it). Away from two directions is always away from
-        both; with three or more it may close on one, and then there is none."""
+        2,400 s while the cart waited for it). The step heads down the middle of the widest
+        way between them, which closes on none of them if it is at least a half turn wide."""
         near = self._near(self._relative())
         if near is None:
             return Twist(0.0, 0.0, 0.0)
         toward, gap = near
         close = toward[gap < self.config.near_distance]
-        away = -close.sum(axis=0)
-        norm = float(np.hypot(*away)) if len(close) else 0.0
-        if norm < 1e-6 or np.any(close @ away > 0.0):
+        if not len(close):
             return Twist(0.0, 0.0, 0.0)
-        return Twist(float(speed * away[0] / norm), float(speed * away[1] / norm), 0.0)
+        angles = np.sort(np.arctan2(close[:, 1], close[:, 0]))
+        gaps = np.diff(np.append(angles, angles[0] + 2 * math.pi))
+        k = int(np.argmax(gaps))
+        if gaps[k] < math.pi:  # ringed round: every way closes on someone
+            return Twist(0.0, 0.0, 0.0)
+        heading = angles[k] + gaps[k] / 2  # the middle of the widest way between them
+        return Twist(speed * math.cos(heading), speed * math.sin(heading), 0.0)
 
     def _relative(self) -> np.ndarray:
         """The people that count, read once a tick: (P, 5) rows of their offset from the robot

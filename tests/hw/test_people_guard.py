@@ -115,6 +115,26 @@ def test_between_two_people_nearly_opposite_the_way_square_to_both_stays_open():
     assert speed(g.judge(Twist(0.1, 0.06, 0.0), wait)) == pytest.approx(0.0)  # straight at the worker: nothing
 
 
+def test_the_step_away_from_everyone_near_closes_on_none_of_them_and_there_may_be_none():
+    """``escape``, taken by the navigator when its own step has been held: between a worker and
+    a cart whose corner the returns show, straight away from both (safety.people seed 113)."""
+    worker, cart = at(0.77, 0.5, 0.27), at(-0.56, -0.61, 0.47)
+    corner = np.array([[-0.35, -0.45]])
+    g = PeopleGuard(PeopleGuardConfig(), Pose2D, R, lambda: (worker, cart), returns=lambda: corner)
+    out = g.escape(0.15)
+    v = np.array([out.vx, out.vy])
+    assert speed(out) == pytest.approx(0.15) and out.wz == 0.0
+    for p in (np.array([worker.x, worker.y]), np.array([cart.x, cart.y]), corner[0]):
+        assert v @ p < 0.0
+    g.judge(out, 0.0)  # the cart at arm's length: waited out first
+    assert g.judge(out, PeopleGuardConfig().still_wait) == out  # then the guard lets it through whole
+    assert speed(guard(at(0.6, 0.0), at(-0.3, 0.5), at(-0.3, -0.5)).escape(0.15)) == 0.0  # ringed round
+    wide = PeopleGuard(PeopleGuardConfig(), Pose2D, R, lambda: (worker, cart), returns=lambda: np.array([[-0.5, -0.15]]))
+    assert wide.escape(0.15) == Twist(0.0, 0.0, 0.0)  # the worker and the cart's corner more than a half turn apart
+    assert guard(at(0.0, 1.5)).escape(0.15) == Twist(0.0, 0.0, 0.0)  # nobody near
+    assert guard().escape(0.15) == Twist(0.0, 0.0, 0.0)
+
+
 def test_people_are_in_odom_and_towards_is_judged_in_the_base_frame():
     # the robot at (2, 1) facing +y: a person at odom (2, 1.8) is straight ahead of it
     g = guard(at(2.0, 1.8), pose=Pose2D(2.0, 1.0, math.pi / 2))

@@ -22,6 +22,7 @@ from nav.localisation import OdometryOnly
 from nav.navigator import LANE, Navigator, Sources, State
 from nav.planner import NavfnPlanner
 from nav.walks import Walks
+from nav.waits import ESCAPE_AFTER, ESCAPE_TIME
 from tests.nav.builders import dummy_costmap
 from tests.nav.test_navigator import FakeController, FakeCostmap
 
@@ -56,14 +57,14 @@ class LocalCostmap(FakeCostmap):
 
 
 class Rig:
-    def __init__(self, people=(), closed=False, controller=None, held=False):
+    def __init__(self, people=(), closed=False, controller=None, held=False, escape=lambda speed: ZERO_TWIST):
         self.people = list(people)
         self.published: list[tuple[float, Twist]] = []
         self.t = 0.0
         self.held = held
         walks = Walks(lambda: self.people, lambda: self.t)  # as the runtime's navigation reads people
         io = Sources(lambda: START, lambda: ZERO_TWIST, self.scan, lambda tw, now: self.published.append((now, tw)),
-                     lambda: False, lambda: self.held, walks)
+                     lambda: False, lambda: self.held, walks, escape)
         self.glob = global_costmap(CFG.costmap, lambda: self.people)
         self.glob.set_static(one_aisle(closed), RES, 0.0, 0.0)
         self.local = LocalCostmap()
@@ -205,6 +206,30 @@ def test_a_person_the_monitor_holds_the_robot_for_is_stepped_back_from_not_press
     end = rig.run(CFG.navigator.person_wait + 5.0, t0=1.05)
     assert rig.nav.state is State.FAILED and rig.nav.reason.startswith("blocked: a person close by")
     assert end >= CFG.navigator.person_wait  # a person's wait, not the 15 s for a box
+
+
+def test_a_robot_held_while_it_steps_back_steps_straight_away_from_everyone_for_a_while():
+    """safety.people seed 113, 675-3,074 s: its step to a refuge past a worker held by the guard
+    (a cart's corner on the other side), the robot stood; held ``ESCAPE_AFTER`` on end it takes
+    the guard's step away from everyone for ``ESCAPE_TIME``, then tries its own again, the whole
+    a person's wait."""
+    person = Person(16, START.x + 0.75, START.y, 0.0, 0.0, 0.2, 0.9)
+    away = Twist(0.0, -0.15, 0.0)  # the guard's: square to the worker, away from the cart
+    rig = Rig([person], held=True, escape=lambda speed: Twist(0.0, -speed, 0.0))
+    rig.nav.navigate_to(GOAL, 0.0, timeout=60.0)
+    rig.run(ESCAPE_AFTER)
+    assert rig.published and all(tw.vx < 0 and tw != away for _, tw in rig.published[1:])  # its own step back
+    n = len(rig.published)
+    rig.run(ESCAPE_AFTER + ESCAPE_TIME - 0.1, t0=ESCAPE_AFTER + 0.05)
+    assert [tw for _, tw in rig.published[n:]] == [away] * (len(rig.published) - n)
+    rig.run(ESCAPE_AFTER + ESCAPE_TIME + 1.0, t0=ESCAPE_AFTER + ESCAPE_TIME - 0.05)
+    assert rig.published[-1][1].vx < 0  # its own step again
+    rig.run(CFG.navigator.person_wait + 5.0, t0=ESCAPE_AFTER + ESCAPE_TIME + 1.05)
+    assert rig.nav.state is State.FAILED and rig.nav.reason.startswith("blocked: a person close by")
+    rig = Rig([person], held=True)  # no step away from everyone: its own step back throughout
+    rig.nav.navigate_to(GOAL, 0.0, timeout=60.0)
+    rig.run(ESCAPE_AFTER + 1.0)
+    assert all(tw.vx < 0 for _, tw in rig.published[1:])
 
 
 def test_a_recovery_with_people_about_does_not_back_off_blindly():
