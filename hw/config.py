@@ -270,6 +270,14 @@ class PeopleGuardConfig(Strict):
     """Body to body, m, inside which no motion towards the person is allowed (issue 28: "never
     drive towards a person nearer than 0.5 m"): the share of the twist towards them is removed,
     sideways and away still pass."""
+    ring_closing: float = Field(0.02, ge=0)
+    """Ringed round by people nearer than ``near_distance`` (every way closes on one of them),
+    the most speed towards any of them the base may creep at, m/s, along the way that closes
+    least (``hw.people_guard.PeopleGuard.escape``): standing still there, the robot waited for
+    good while the people waited for it (safety.people seed 113, 960-2,850 s: a worker 0.48 m
+    off on one side, a cart that yields 0.28 m off on the other, 168 deg apart, the cart
+    waiting for the robot to leave its turning place). 4 cm in the navigator's 2 s step; 0:
+    never."""
     min_confidence: float = Field(0.5, ge=0, le=1)
     """Tracks at least this confident count (the tracker reports anything unexplained at 0.5:
     a person until shown otherwise, the safe side)."""

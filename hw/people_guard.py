@@ -126,7 +126,7 @@ class PeopleGuard:
             s = c.slow_speed / speed
             action, v, wz = SLOW, v * s, wz * s
         close = toward[gap < c.near_distance]
-        if len(close):
+        if len(close) and not (_ringed(close) and float((close @ v).max()) <= c.ring_closing + 1e-9):
             before = float(np.hypot(*v))
             v = _without_towards(v, close)
             action = AWAY if float(np.hypot(*v)) < before - 1e-9 else action
@@ -135,15 +135,16 @@ class PeopleGuard:
         return twist if action == NONE else Twist(float(v[0]), float(v[1]), wz)
 
     def escape(self, speed: float) -> Twist:
-        """A step straight away from everyone nearer than ``near_distance`` (their centres and
-        the nearest returns on their bodies, as ``judge`` reads them), base frame, at ``speed``;
-        zero with nobody that near or no way away from all of them. The navigator takes it when
-        its own step out of the way has been held here for a while: its refuge is chosen on the
-        tracks' circles, and between two people a step the circles allow can close on a cart's
-        corner that the returns show (safety.people seed 113 at 675 s: a standing worker on
-        one side, a cart that yields on the other, the robot held still between them for
-        2,400 s while the cart waited for it). The step heads down the middle of the widest
-        way between them, which closes on none of them if it is at least a half turn wide."""
+        """A step away from everyone nearer than ``near_distance`` (their centres and the
+        nearest returns on their bodies, as ``judge`` reads them), base frame, at ``speed``;
+        zero with nobody that near. The navigator takes it when its own step out of the way has
+        been held here for a while: its refuge is chosen on the tracks' circles, and between two
+        people a step the circles allow can close on a cart's corner that the returns show
+        (safety.people seed 113 at 675 s: a standing worker on one side, a cart that yields on
+        the other, the robot held still between them for 2,400 s while the cart waited for it).
+        The step heads down the middle of the widest way between them, which closes on none of
+        them if it is at least a half turn wide; ringed round, it closes on the people either
+        side of that way at most ``ring_closing``, the creep ``judge`` lets through there."""
         near = self._near(self._relative())
         if near is None:
             return Twist(0.0, 0.0, 0.0)
@@ -151,12 +152,10 @@ class PeopleGuard:
         close = toward[gap < self.config.near_distance]
         if not len(close):
             return Twist(0.0, 0.0, 0.0)
-        angles = np.sort(np.arctan2(close[:, 1], close[:, 0]))
-        gaps = np.diff(np.append(angles, angles[0] + 2 * math.pi))
-        k = int(np.argmax(gaps))
-        if gaps[k] < math.pi:  # ringed round: every way closes on someone
-            return Twist(0.0, 0.0, 0.0)
-        heading = angles[k] + gaps[k] / 2  # the middle of the widest way between them
+        heading, width = _widest_way(close)
+        closing = math.cos(width / 2)  # the share of the step towards the people either side
+        if closing > 0.0:
+            speed = min(speed, self.config.ring_closing / closing)
         return Twist(speed * math.cos(heading), speed * math.sin(heading), 0.0)
 
     def _relative(self) -> np.ndarray:
@@ -215,6 +214,20 @@ class PeopleGuard:
         k = np.argmin(far, axis=1)
         seen = np.flatnonzero(np.isfinite(far[np.arange(len(k)), k]))
         return seen, pts[k[seen]]
+
+
+def _widest_way(toward: np.ndarray) -> tuple[float, float]:
+    """The middle of the widest way between the unit directions ``toward`` (base frame, rad)
+    and that way's width (rad, 2 pi for one direction)."""
+    angles = np.sort(np.arctan2(toward[:, 1], toward[:, 0]))
+    gaps = np.diff(np.append(angles, angles[0] + 2 * math.pi))
+    k = int(np.argmax(gaps))
+    return float(angles[k] + gaps[k] / 2), float(gaps[k])
+
+
+def _ringed(toward: np.ndarray) -> bool:
+    """Does every way close on one of the unit directions ``toward`` (none a half turn wide)?"""
+    return _widest_way(toward)[1] < math.pi - 1e-9
 
 
 def _without_towards(v: np.ndarray, toward: np.ndarray) -> np.ndarray:

@@ -149,9 +149,34 @@ def test_the_step_away_from_everyone_near_closes_on_none_of_them_and_there_may_b
         assert v @ p < 0.0
     g.judge(out, 0.0)  # the cart at arm's length: waited out first
     assert g.judge(out, PeopleGuardConfig().still_wait) == out  # then the guard lets it through whole
-    assert speed(guard(at(0.6, 0.0), at(-0.3, 0.5), at(-0.3, -0.5)).escape(0.15)) == 0.0  # ringed round
-    wide = PeopleGuard(PeopleGuardConfig(), Pose2D, R, lambda: (worker, cart), returns=lambda: np.array([[-0.5, -0.15]]))
-    assert wide.escape(0.15) == Twist(0.0, 0.0, 0.0)  # the worker and the cart's corner more than a half turn apart
+
+
+def test_ringed_round_the_base_creeps_along_the_way_that_closes_least_and_no_faster():
+    """safety.people seed 113 at 1,212 s (base frame): a worker 0.48 m off, a cart 0.28 m off
+    on the other side, 168 deg apart; every way closes on one of them, and standing the robot
+    waited for good while the cart waited for it. The escape creeps down the middle of the way
+    between them, closing on either at most ``ring_closing``; the guard lets that, and only
+    that, through."""
+    worker, cart = at(*polar(0.97, -107.7), 0.27), at(*polar(0.97, 75.8), 0.47)
+    returns = np.array([polar(0.70, -115.0), polar(0.50, 59.3)])
+    cfg = PeopleGuardConfig()
+    g = PeopleGuard(cfg, Pose2D, R, lambda: (worker, cart), returns=lambda: returns)
+    out = g.escape(0.15)
+    v = np.array([out.vx, out.vy])
+    toward = np.vstack([[worker.x, worker.y], [cart.x, cart.y], returns])
+    toward /= np.hypot(toward[:, 0], toward[:, 1])[:, None]
+    assert 0.05 < speed(out) <= 0.15 and out.wz == 0.0
+    assert 0.0 < (toward @ v).max() <= cfg.ring_closing + 1e-9
+    assert g.judge(out, 0.0) == out and g.verdict.action == NONE  # nobody at arm's length: no wait
+    for turn in (-15.0, 15.0):  # 15 deg off that way closes 0.05 m/s on someone: none of it
+        c, s = math.cos(math.radians(turn)), math.sin(math.radians(turn))
+        assert speed(g.judge(Twist(c * out.vx - s * out.vy, s * out.vx + c * out.vy, 0.0), 0.0)) == pytest.approx(0.0)
+    assert speed(g.judge(Twist(0.1, -0.1, 0.0), 0.0)) == pytest.approx(0.0)  # nor towards the worker
+    three = guard(at(1.2, 0.0, 0.5), at(-0.6, 1.04, 0.5), at(-0.6, -1.04, 0.5))  # 0.48 m off all round
+    step = three.escape(0.15)
+    assert speed(step) == pytest.approx(cfg.ring_closing / 0.5, rel=1e-2)  # 60 deg off either side of its way
+    never = PeopleGuard(PeopleGuardConfig(ring_closing=0.0), Pose2D, R, lambda: (worker, cart), returns=lambda: returns)
+    assert speed(never.escape(0.15)) == pytest.approx(0.0)
     assert guard(at(0.0, 1.5)).escape(0.15) == Twist(0.0, 0.0, 0.0)  # nobody near
     assert guard().escape(0.15) == Twist(0.0, 0.0, 0.0)
 
