@@ -40,8 +40,8 @@ ROBOT_LANE = "out of a robot's way"
 #: (safety.people stop 55: 14 of its 20 failed pots). A person who yields stops for a robot
 #: standing still; the rules bind its moving (issue 28 item 2).
 FINISH = 0.25
-#: Held this long (s) without a break while it steps out of the way, the robot steps straight
-#: away from the people holding it instead, for ``ESCAPE_TIME`` (``hw.people_guard``'s
+#: Held this long (s) without a break while it steps out of the way, the robot steps away from
+#: the people holding it instead, for ``ESCAPE_TIME`` (``hw.people_guard``'s
 #: ``escape``: safety.people seed 113, 675-3,074 s, held still between a worker and a cart
 #: that waited for it). Longer than a tick or two of the guard trimming a step, well short of
 #: ``person_wait``.
@@ -86,13 +86,15 @@ class Waits:
         return True
 
     def _escaping(self, now: float, dt: float) -> bool:
-        """Held ``ESCAPE_AFTER`` on end, step straight away from the people holding the robot
-        for ``ESCAPE_TIME`` (while there is such a step); True while stepping."""
+        """Held ``ESCAPE_AFTER`` on end, take the guard's step away from the people holding the
+        robot for ``ESCAPE_TIME`` (while there is such a step); True while stepping."""
         if self.io.held() and self._held_since is None:
             self._held_since = now
         if self._held_since is not None and now - self._held_since > ESCAPE_AFTER:
-            self._held_since, self._escape_until = None, now + ESCAPE_TIME
-            log.info("held %.0f s between people: stepping straight away from them", ESCAPE_AFTER)
+            self._held_since = None
+            if self.io.escape(NEAR_SPEED) != ZERO_TWIST:  # held by people, not by a pot or a wall
+                self._escape_until = now + ESCAPE_TIME
+                log.info("held %.0f s by people close by: stepping away from them all", ESCAPE_AFTER)
         step = self.io.escape(NEAR_SPEED) if now < self._escape_until else ZERO_TWIST
         if step == ZERO_TWIST:
             self._escape_until = -math.inf
