@@ -15,7 +15,9 @@ the twist_mux and the wheels, judged on the base controller's beat. In order:
    footprint). "Towards" is towards the person's centre and towards the nearest of the scan's
    returns on their body (``returns``): a cart is long, and a step away from its middle can be
    a step towards its corner (safety.people, seed 111 at 2,019 s: a robot stepping away from a
-   cart's track centre came 0.15 m from the cart's front corner);
+   cart's track centre came 0.15 m from the cart's front corner). Ringed round by people that
+   near, where every motion closes on one of them, a creep of at most ``ring_closing`` towards
+   anyone passes (``escape``);
 3. ``below``, the collision monitor: its geometric stop zone on the raw scan stays the last
    line, and nothing here can switch it off (a person the tracker missed or got wrong is still
    an obstacle to it).
@@ -234,11 +236,9 @@ def _without_towards(v: np.ndarray, toward: np.ndarray) -> np.ndarray:
     """The motion nearest ``v`` that closes on none of the unit directions ``toward``: ``v``'s
     projection on that cone of motions. In the plane the cone's edges lie on lines square to
     some of the directions, so the answer is ``v`` itself, its projection on one such line, or
-    no motion. Taking each component out in turn (until stop 61) settles only over many rounds
-    between two people nearly opposite each other, and after two it stopped the robot: in
-    safety.people's seed 113 at 675 s, a standing worker 0.45 m to one side and a cart 0.3 m to
-    the other, the robot stood still between them for 2,400 s with the way out square to both
-    open, and the cart, which yields, waited for it."""
+    no motion. Until stop 61 the components were taken out in turn, two rounds, and what still
+    closed on someone stopped: on 20,000 random cases of two and three people that came to the
+    same motion; this finds it directly and says what it is."""
     def closes(w: np.ndarray) -> bool:
         return bool(np.any(toward @ w > 1e-9))
 

@@ -98,9 +98,8 @@ def test_two_people_either_side_ahead_stop_the_robot_between_them():
 
 
 def test_between_two_people_nearly_opposite_the_way_square_to_both_stays_open():
-    """A standing worker 0.45 m to one side, a cart 0.2 m to the other (safety.people seed 113 at
-    675 s): a step that closes on the worker loses just that part and slides out between them;
-    taking the parts out one by one used to stop it, and the cart, which yields, waited for good."""
+    """A standing worker 0.45 m to one side, a cart 0.2 m to the other: a step that closes on the
+    worker loses just that part (the least taken out) and slides out between them."""
     worker, cart = at(0.77, 0.5, 0.27), at(-0.56, -0.61, 0.47)
     g = guard(worker, cart)
     step = Twist(-0.025, 0.147, 0.0)  # to a refuge past the worker's shoulder
