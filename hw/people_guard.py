@@ -128,7 +128,7 @@ class PeopleGuard:
             s = c.slow_speed / speed
             action, v, wz = SLOW, v * s, wz * s
         close = toward[gap < c.near_distance]
-        if len(close) and not (_ringed(close) and float((close @ v).max()) <= c.ring_closing + 1e-9):
+        if len(close) and not (float((close @ v).max()) <= c.ring_closing + 1e-9 and _ringed(close)):
             before = float(np.hypot(*v))
             v = _without_towards(v, close)
             action = AWAY if float(np.hypot(*v)) < before - 1e-9 else action

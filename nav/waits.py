@@ -75,7 +75,6 @@ class Waits:
         if self._escaping(now, dt):
             return True
         if not self.io.held():
-            self._held_since = None
             return False
         back = self._evade(self.people.layer.wait_clearance) if self.people.counted() else ZERO_TWIST
         if back == ZERO_TWIST:
@@ -88,14 +87,18 @@ class Waits:
     def _escaping(self, now: float, dt: float) -> bool:
         """Held ``ESCAPE_AFTER`` on end, take the guard's step away from the people holding the
         robot for ``ESCAPE_TIME`` (while there is such a step); True while stepping."""
-        if self.io.held() and self._held_since is None:
-            self._held_since = now
-        if self._held_since is not None and now - self._held_since > ESCAPE_AFTER:
+        step = ZERO_TWIST
+        if not self.io.held():
             self._held_since = None
-            if self.io.escape(NEAR_SPEED) != ZERO_TWIST:  # held by people, not by a pot or a wall
+        elif self._held_since is None:
+            self._held_since = now
+        elif now - self._held_since > ESCAPE_AFTER:
+            self._held_since, step = None, self.io.escape(NEAR_SPEED)
+            if step != ZERO_TWIST:  # held by people, not by a pot or a wall
                 self._escape_until = now + ESCAPE_TIME
                 log.info("held %.0f s by people close by: stepping away from them all", ESCAPE_AFTER)
-        step = self.io.escape(NEAR_SPEED) if now < self._escape_until else ZERO_TWIST
+        if step == ZERO_TWIST and now < self._escape_until:
+            step = self.io.escape(NEAR_SPEED)
         if step == ZERO_TWIST:
             self._escape_until = -math.inf
             return False
