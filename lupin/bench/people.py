@@ -38,6 +38,9 @@ import time
 
 import numpy as np
 
+from arm.outline import arm_capsules
+from arm.presets import ARM_JOINTS
+from hw.robot_outline import Outline
 from lupin.bench import Sample, benchmark
 from mission.runtime.config import LupinConfig
 from hw.odometry import Pose2D
@@ -147,6 +150,13 @@ def static_map(world: World, config: LupinConfig, poses, mount, resolution: floa
     return OccupancyMap(grid, resolution, -10 * resolution, -10 * resolution)
 
 
+def robot_body(robot: SimRobot, config: LupinConfig) -> Outline:
+    """The bench robot's outline: its chassis and its arm where the sim holds it (nothing moves
+    the arm here), as the runtime hands the collision monitor's to the tracker."""
+    q = [robot.engine.data.qpos[robot.engine.joint_qpos(j)] for j in ARM_JOINTS]
+    return Outline(*config.hw.collision_monitor.chassis, arm_capsules(q, config.arm.kinematics))
+
+
 def run_world(seed: int, config: LupinConfig) -> dict:
     world = people_world(seed)
     poses = path_poses()
@@ -154,8 +164,9 @@ def run_world(seed: int, config: LupinConfig) -> dict:
     robot = SimRobot(world, config.sim, config.hw)
     grid = static_map(world, config, poses, mount)
     here = [Pose2D(*poses[0])]
+    body = robot_body(robot, config)
     people = People(config.perception.people, robot.lidar.latest_scan, lambda: here[0], Pose2D(*mount), Pose2D,
-                    lambda: grid)
+                    lambda: grid, lambda: body, config.hw.collision_monitor.self_margin)
     people.watch([(p.x, p.y) for p in world.pots], config.patrol.pot_radius)
     out = {"times": [], "wanted": 0, "found": 0, "reported": 0, "right": 0, "out_of_view": 0,
            "by_posture": {}, "acted_found": 0, "acted_by_posture": {}, "acted_reported": 0, "acted_right": 0}

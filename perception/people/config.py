@@ -16,8 +16,11 @@ from hw.config import Strict
 class PeopleConfig(Strict):
     """The person tracker on the lidar scan."""
 
-    min_range: float = Field(0.25, ge=0)
-    """Returns nearer the robot than this are its own arm (seed: consumers drop < 0.25 m), m."""
+    min_range: float = Field(0.0, ge=0)
+    """Returns nearer the robot's centre than this are dropped, m (0: none). The robot's own
+    returns are dropped by its outline as it stands, the chassis and the arm
+    (``mission.runtime.people``), not by a circle: the seed's "consumers drop < 0.25 m" hid a
+    worker's legs pressed to the chassis' front."""
     max_range: float = Field(6.0, gt=0)
     """Returns farther than this are not looked at, m: the distance rules act within ~1.5 m of
     the path, and at 6 m a leg is only ~2 returns of the C1's 500 (0.075 m apart)."""

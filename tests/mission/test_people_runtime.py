@@ -11,6 +11,7 @@ import numpy as np
 
 from hw.interfaces import LidarScan
 from hw.odometry import Pose2D
+from hw.robot_outline import Capsules, Outline
 from mission.runtime.greenhouse import floor_seen, kept, without
 from mission.runtime.people import LEG_SCANS, LEGS_SEEN, LOST_KEEP, People
 from mission.runtime.stood_at_start import FORGET, REACH, SEEN, StoodAtStart, clear_round
@@ -23,6 +24,7 @@ from tests.perception.people.synthetic import POT_RADIUS, greenhouse, mapped
 
 ODOM = Pose2D(1.0, 2.5, 0.0)
 MOUNT = Pose2D(0.115, 0.0, 0.0)
+CHASSIS = Outline(0.165, 0.13)
 WORKER = (3.0, 2.5)
 
 
@@ -61,7 +63,8 @@ def first_and_structure(first: OccupancyMap, live: OccupancyMap, structure: Occu
 
 
 class Rig:
-    def __init__(self, first: OccupancyMap, heading: float = math.pi / 2, thing=None):
+    def __init__(self, first: OccupancyMap, heading: float = math.pi / 2, thing=None, body: Outline = CHASSIS,
+                 config: PeopleConfig = PeopleConfig()):
         s, self.pots = scene()
         if thing is None:
             s.legs(*WORKER, heading=heading)  # facing north: one leg behind the other, seen side-on
@@ -70,8 +73,8 @@ class Rig:
         self.points = s.scan((ODOM.x + MOUNT.x, ODOM.y + MOUNT.y, 0.0))
         self.map = first
         self.t = 0.0
-        self.people = People(PeopleConfig(), lambda: lidar_scan(self.points, self.t), lambda: ODOM, MOUNT,
-                             Pose2D, lambda: self.map)
+        self.people = People(config, lambda: lidar_scan(self.points, self.t), lambda: ODOM, MOUNT,
+                             Pose2D, lambda: self.map, lambda: body, 0.02)
 
     def ticks(self, n: int):
         for _ in range(n):
@@ -89,6 +92,31 @@ def test_no_one_is_tracked_until_the_patrol_names_its_pots_then_only_the_worker(
     assert len(people) == 1
     p = people[0]
     assert math.hypot(p.x - WORKER[0], p.y - WORKER[1]) < 0.15 and p.confidence >= 0.5
+
+
+def test_a_worker_pressed_to_the_chassis_front_is_a_person_and_the_arm_out_to_the_side_is_not():
+    """The robot's own returns are dropped by its outline as it stands, not by a 0.25 m circle:
+    that circle hid the legs of a worker who walked up to the robot's front (safety.people seed
+    115, 516 s), here 0.19-0.25 m from its centre."""
+    arm = Capsules(np.array([[[0.0, 0.1], [0.0, 0.4]]]), 0.03)  # reaching out to the left
+    def against_the_robot(s):
+        s.legs(ODOM.x + 0.27, ODOM.y)  # legs side by side, facing the robot's front
+        s.box(ODOM.x, ODOM.y + 0.28, 0.04, 0.2)  # what the lidar sees of the arm
+
+    walls, pots = scene()
+    rig = Rig(mapped(walls), thing=against_the_robot, body=Outline(0.165, 0.13, arm))
+    near = np.hypot(rig.points[:, 0] - ODOM.x, rig.points[:, 1] - ODOM.y)
+    assert (near < 0.25).sum() >= 4  # the worker's front returns, inside the old circle
+    rig.people.watch(pots, 0.10)
+    rig.ticks(5)
+    shown = rig.people.confident()
+    assert len(shown) == 1 and math.hypot(shown[0].x - ODOM.x - 0.27, shown[0].y - ODOM.y) < 0.1
+    assert not any(abs(p.x - ODOM.x) < 0.1 and p.y - ODOM.y > 0.15 for p in rig.people.tracks)  # no arm
+    circle = Rig(mapped(walls), thing=against_the_robot, body=Outline(0.165, 0.13, arm),
+                 config=PeopleConfig(min_range=0.25))
+    circle.people.watch(pots, 0.10)
+    circle.ticks(5)
+    assert circle.people.confident() == ()
 
 
 def test_a_wall_the_first_map_lacked_is_taken_in_from_slam_but_a_standing_worker_never_is():
@@ -343,7 +371,8 @@ def test_where_the_fleet_says_a_robot_stands_is_taken_from_the_map_into_odom():
     robot 0.2 m of SLAM correction off its odometry placed the others 0.4 m from where they were)."""
     walls, _ = scene()
     m2o = Pose2D(0.3, -0.2, 0.4)
-    people = People(PeopleConfig(), lambda: None, lambda: ODOM, MOUNT, lambda: m2o, lambda: mapped(walls))
+    people = People(PeopleConfig(), lambda: None, lambda: ODOM, MOUNT, lambda: m2o, lambda: mapped(walls),
+                    lambda: CHASSIS, 0.02)
     seen_at = Pose2D(2.0, 1.0, 0.0)  # odom
     told = compose(m2o, seen_at)  # the same place, map frame
     people.robots = lambda: [told]
