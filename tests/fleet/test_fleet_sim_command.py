@@ -35,7 +35,9 @@ def test_two_robots_without_tls_are_up_within_seconds_and_each_stops_on_its_own_
             assert wait_for(lambda: all(console.client(r).view().connected for r in ("r1", "r2")), 20)
             r2 = LinkClient(None, "r2", clock=time.monotonic, timeout=5.0, session=console.session)
             assert r2.send("estop", engaged=True) is None
-            assert wait_for(lambda: console.client("r2").view().estop_engaged, 5)
+            # the robots' runtimes share the cores with the suite: a loaded machine (a bench beside
+            # it at stop 62) took over 5 s to show the stop; what counts is that it shows, r2's alone
+            assert wait_for(lambda: console.client("r2").view().estop_engaged, 20)
             time.sleep(0.5)
             assert not console.client("r1").view().estop_engaged  # r2's stop was r2's alone
             poses = {r: console.client(r).view().pose for r in ("r1", "r2")}
