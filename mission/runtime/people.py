@@ -268,7 +268,7 @@ class People:
         ``body_margin`` of its outline as it stands). The outline and not a circle round the
         centre: a circle of 0.25 m (the seed's "consumers drop < 0.25 m") hid the legs of a worker
         who walked up to the robot's front, 0.17-0.24 m from its centre, and the robot, told of no
-        one, went on aligning while they touched it (safety.people held-out seed 115, 516 s)."""
+        one, went on aligning while they touched it (safety.people seed 115 at stop 61, 516 s)."""
         body = self.body()
         dx, dy = points[:, 0] - odom.x, points[:, 1] - odom.y
         reach = body.reach + math.sqrt(2.0) * self.body_margin

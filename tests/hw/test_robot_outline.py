@@ -1,6 +1,6 @@
-"""The outline's point test against the plain definition: the chassis box grown by the margin,
-or within radius + margin of a capsule's segment, for every point (the test only looks near
-the robot, and takes all capsules at once)."""
+"""The outline's point test, which takes all capsules at once, against the plain definition: the
+chassis box grown by the margin, or within radius + margin of a capsule's segment, capsule by
+capsule."""
 from __future__ import annotations
 
 import numpy as np
