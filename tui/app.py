@@ -6,7 +6,8 @@ whose panels redraw what changed; it acts only through ``commands`` (the link cl
 test's fake). The keys are in :mod:`tui.keys`.
 
 Nothing here waits on the robot. Commands go out on worker threads and come back as typed
-messages (:mod:`tui.messages`): a refusal is shown in the log and as a notification. Teleop has
+messages (:mod:`tui.messages`): a refusal is shown in the log and as a notification. The
+operator's commands go out one at a time in the order pressed, a stop first (``InOrder``). Teleop has
 one worker and a one-slot mailbox: a twist pressed while the previous one is still on its way
 replaces any twist still waiting, so a slow link never builds a backlog that would keep the
 robot driving after the key is let go, and a run of the same teleop refusal is told once.
@@ -19,6 +20,7 @@ history columns (:mod:`tui.history_marks`); ``i`` reads the selected pot's timel
 from __future__ import annotations
 
 import threading
+from collections import deque
 from typing import Any, Callable
 
 from textual import work
@@ -64,6 +66,39 @@ class Latest:
             return item
 
 
+class InOrder:
+    """The console's commands for one worker, delivered in the order they were pressed.
+
+    A worker per command let them race: a release pressed just after a stop could reach the
+    robot first and be undone by it, and worse, a stop pressed just after a release could land
+    first and be undone by the release (the robot free while the operator's last press was
+    STOP). One worker keeps the order. A stop (``estop`` engaged) goes to the front and takes any
+    release still waiting with it: the last press of the stop key wins, and a stop never waits
+    behind more than the one command already on its way. ``put``/``take`` as ``Latest``."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._items: deque[tuple[str, dict[str, Any]]] = deque()
+        self._draining = False
+
+    def put(self, command: str, args: dict[str, Any]) -> bool:
+        with self._lock:
+            if command == "estop" and args.get("engaged"):
+                self._items = deque(i for i in self._items if i[0] != "estop")
+                self._items.appendleft((command, args))
+            else:
+                self._items.append((command, args))
+            start, self._draining = not self._draining, True
+            return start
+
+    def take(self) -> tuple[str, dict[str, Any]] | None:
+        with self._lock:
+            if not self._items:
+                self._draining = False
+                return None
+            return self._items.popleft()
+
+
 class ConsoleApp(App):
     CSS_PATH = "console.tcss"
     TITLE = "Lupin console"
@@ -75,6 +110,7 @@ class ConsoleApp(App):
         self.view = RobotView()
         self.main = MainScreen()
         self._twists = Latest()
+        self._orders = InOrder()
         self._teleop_refusal: str | None = None
         self._history_asks = Latest()
         self._history_moment: tuple | None = None
@@ -170,11 +206,18 @@ class ConsoleApp(App):
         except Exception as exc:  # a broken link must not take the console (and its e-stop) down
             return f"{command}: {type(exc).__name__}: {exc}"
 
-    @work(thread=True, group="commands")
     def send(self, command: str, /, **args: Any) -> None:
-        refused = self._deliver(command, args)
-        if refused:
-            self.post_message(CommandRefused(command, refused))
+        """Send a command in its turn (``InOrder``); a refusal comes back as a message."""
+        if self._orders.put(command, args):
+            self._send_in_order()
+
+    @work(thread=True, group="commands")
+    def _send_in_order(self) -> None:
+        while (order := self._orders.take()) is not None:
+            command, args = order
+            refused = self._deliver(command, args)
+            if refused:
+                self.post_message(CommandRefused(command, refused))
 
     @work(thread=True, group="teleop")
     def _drive(self) -> None:

@@ -6,7 +6,9 @@ robot's state is only ever touched by the loop that owns it; the Zenoh thread wa
 ``link.command_timeout``) for the answer and replies, the loop never waits for anyone. One
 exception, on purpose: engaging the soft e-stop is applied at once on the Zenoh thread (one
 attribute write that the base controller reads on its next tick), so a stop does not also
-wait for the queue's beat. And one read: a ``history`` question is answered on the Zenoh thread
+wait for the queue's beat. A release queued before a stop arrived is refused when its turn
+comes, not applied: it would undo the later stop (a stop's "at once" must not let an earlier
+release overtake it). And one read: a ``history`` question is answered on the Zenoh thread
 from the database (``mission.history.answers``), never queued onto the robot's loop.
 
 The stop keys (``lupin/<robot>/stop`` and ``lupin/fleet/stop``, spec/fleet.md) engage the soft
@@ -49,6 +51,8 @@ class _Pending:
     done: threading.Event = field(default_factory=threading.Event)
     result: bytes | None = None
     error: str | None = None
+    stops_before: int = 0
+    """Stops engaged when this command arrived: a release after a newer stop is refused."""
 
 
 class LinkServer:
@@ -66,6 +70,9 @@ class LinkServer:
         self.outbox = Outbox(self.session.put, config.queue)
         self.telemetry = Telemetry(service, self.outbox, config.robot)
         self._inbox: queue.SimpleQueue[_Pending] = queue.SimpleQueue()
+        self._stopped = 0
+        """Stops engaged on Zenoh's threads so far: it only grows (two racing stops may count as one,
+        which still changes it, all a queued release looks at)."""
         self._queryable = self.session.declare_queryable(cmd_key(config.robot, "*"), self._on_query)
         self._stops = [self.session.declare_queryable(k, self._on_stop) for k in (stop_key(config.robot), FLEET_STOP)]
         self._alive = self.session.liveliness().declare_token(alive_key(config.robot))
@@ -97,9 +104,13 @@ class LinkServer:
         return peers
 
     # --- Zenoh's threads -----------------------------------------------------------------------
+    def _stop_now(self) -> None:
+        self._stopped += 1
+        self.service.estop(True)
+
     def _on_stop(self, query: zenoh.Query) -> None:
         """A stop key: engaged at once, for anyone the router lets ask (spec/fleet.md)."""
-        self.service.estop(True)
+        self._stop_now()
         query.reply(query.key_expr, dumps({"ok": True, "robot": self.config.robot}))
 
     def _on_query(self, query: zenoh.Query) -> None:
@@ -111,7 +122,7 @@ class LinkServer:
             query.reply_err(dumps({"error": str(exc)}))
             return
         if name == "estop" and args.engaged:
-            self.service.estop(True)  # at once: see the module docstring
+            self._stop_now()  # at once: see the module docstring
             query.reply(query.key_expr, dumps({"ok": True}))
             return
         if name == "history":  # a read of the database, answered here: the control loop never waits on it
@@ -120,7 +131,7 @@ class LinkServer:
             except CommandRefused as exc:
                 query.reply_err(dumps({"error": str(exc)}))
             return
-        pending = _Pending(name, args)
+        pending = _Pending(name, args, stops_before=self._stopped)
         self._inbox.put(pending)
         if not pending.done.wait(self.config.command_timeout):
             query.reply_err(dumps({"error": f"{name}: the runtime did not answer within {self.config.command_timeout:g} s"}))
@@ -137,6 +148,8 @@ class LinkServer:
             except queue.Empty:
                 return
             try:
+                if p.name == "estop" and p.stops_before != self._stopped:  # only releases queue
+                    raise CommandRefused("estop: release refused: a stop came after it (release again)")
                 out = getattr(self.service, p.name)(**p.args.model_dump(exclude={"token"}))
                 p.result = out if isinstance(out, bytes) else None
             except CommandRefused as exc:

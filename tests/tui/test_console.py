@@ -68,6 +68,50 @@ def test_a_slow_link_never_builds_a_backlog_of_twists():
     assert rec.sent == [UP, ("teleop", {"vx": 0.0, "vy": 0.0, "wz": -0.5})]
 
 
+def commands_behind_a_slow_one(keys: list[str]) -> tuple[list, list[int]]:
+    """Press ``p`` over a link that holds it, then ``keys`` while it is stuck; what was sent,
+    in order, and how many command workers were busy meanwhile."""
+    hold = threading.Event()
+    rec = Recorder(hold=hold)
+    busy = []
+
+    async def go():
+        app = make_app(idle_view, rec)
+        async with app.run_test(size=SIZE) as pilot:
+            await pilot.press("p")
+            for _ in range(1000):
+                if rec.entered.is_set():
+                    break
+                await pilot.pause(0.01)
+            for key in keys:
+                await pilot.press(key)
+            busy.append(sum(1 for w in app.workers if w.group == "commands" and not w.is_finished))
+            hold.set()
+            await app.workers.wait_for_complete()
+            await pilot.pause()
+
+    asyncio.run(go())
+    return rec.sent, busy
+
+
+STOP, RELEASE = ("estop", {"engaged": True}), ("estop", {"engaged": False})
+
+
+def test_commands_reach_the_robot_in_the_order_pressed():
+    """A stop then a release arrive in that order, whatever the threads do (one worker): with
+    a worker per command the release could land first and be undone by the stop."""
+    sent, busy = commands_behind_a_slow_one(["space", "u", "r"])
+    assert busy == [1]
+    assert sent == [("pause", {}), STOP, RELEASE, ("resume", {})]
+
+
+def test_a_stop_goes_first_and_takes_a_waiting_release_with_it():
+    """The last press of the stop key wins: a release still waiting is dropped, the stop jumps
+    the queue, and what was pressed before it otherwise keeps its order."""
+    sent, _ = commands_behind_a_slow_one(["u", "r", "m", "space"])
+    assert sent == [("pause", {}), STOP, ("resume", {}), ("mission_start", {})]
+
+
 # --- camera ------------------------------------------------------------------------------------
 class NoFrames(Recorder):
     def snapshot(self, camera):
