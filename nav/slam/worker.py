@@ -26,6 +26,7 @@ MuJoCo, EGL and numba threads do not survive a fork) and independent of the call
 """
 from __future__ import annotations
 
+import faulthandler
 import json
 import signal
 import time
@@ -152,6 +153,11 @@ def stall(msg: Stall) -> None:
 
 #: The worker's command line after the interpreter (its classes then pickle as ``nav.slam.worker.*``,
 #: which ``-m nav.slam.worker`` would not give: there they would live in ``__main__``).
+STACK_SIGNAL = signal.SIGUSR1
+"""Asks the worker to write every thread's Python stack to stderr (``faulthandler``, at C level:
+it answers mid-computation, in numpy or numba too). The supervisor sends it before killing a
+worker it judged wedged, so the log says where it was stuck, not only that it was."""
+
 LAUNCH = ["-c", "import sys; from nav.slam.worker import main; main(sys.argv[1:])"]
 
 
@@ -159,6 +165,7 @@ def main(argv: list[str]) -> None:
     # Ctrl-C in a terminal reaches the whole process group: the runtime decides when SLAM stops
     # (it kills this worker on close or on a map reset), so the worker must not die mid-run.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    faulthandler.register(STACK_SIGNAL, all_threads=True)  # to stderr: the runtime's, its journal
     fd, config = int(argv[0]), json.loads(argv[1])
     mount = tuple(config.pop("lidar_mount"))
     serve(Connection(fd), config, mount)

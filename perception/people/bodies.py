@@ -15,7 +15,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import math
+
 import numpy as np
+from numba import njit
 
 from perception.people.config import PeopleConfig
 from perception.people.segments import Segments
@@ -36,66 +39,93 @@ class Bodies:
         return len(self.centre)
 
 
-def links(segments: Segments, config: PeopleConfig) -> np.ndarray:
-    """(S, S) bool: two leg-shaped segments whose centres lie within ``pair_distance`` (a pair
-    of legs), or any two whose bounding boxes come within ``join_gap`` (a cart and its pusher)."""
-    c = segments.centre
-    legs = segments.width <= config.leg_width
-    paired = (np.hypot(*(c[:, None, :] - c[None, :, :]).transpose(2, 0, 1)) <= config.pair_distance) \
-        & legs[:, None] & legs[None, :]
-    apart = np.maximum(np.maximum(segments.lo[None, :, :] - segments.hi[:, None, :],
-                                  segments.lo[:, None, :] - segments.hi[None, :, :]), 0.0)
-    return paired | (np.hypot(*apart.transpose(2, 0, 1)) <= config.join_gap)
+@njit(cache=True)
+def _root(root, a):
+    while root[a] != a:
+        root[a] = root[root[a]]
+        a = root[a]
+    return a
 
 
-def components(near: np.ndarray) -> np.ndarray:
-    """Labels of the connected components of the (symmetric) link matrix ``near``: each node
-    labelled by the smallest index in its component. Union-find over the links, the smaller
-    root kept: a scan has a few dozen segments and fewer links, which a loop walks faster than
-    repeated passes over the whole matrix."""
-    root = list(range(len(near)))
-
-    def find(a: int) -> int:
-        while root[a] != a:
-            root[a] = a = root[root[a]]
-        return a
-
-    for a, b in zip(*(k.tolist() for k in np.nonzero(near))):
-        ra, rb = find(a), find(b)
-        if ra != rb:
-            root[max(ra, rb)] = min(ra, rb)
-    return np.array([find(a) for a in range(len(root))], dtype=int)
+@njit(cache=True)
+def _group(points, start, count, lo, hi, centre, robot_x, robot_y, min_segment_points, min_body_points,
+           leg_width, pair_distance, join_gap, max_extent, depth, confidences):
+    """``group`` in one compiled pass: links, components, each body's box, centre, reach, score."""
+    kept = np.flatnonzero(count >= min_segment_points)
+    k = len(kept)
+    legs = np.empty(k, np.bool_)
+    for a in range(k):
+        s = kept[a]
+        legs[a] = math.hypot(hi[s, 0] - lo[s, 0], hi[s, 1] - lo[s, 1]) <= leg_width
+    root = np.arange(k)
+    for a in range(k):
+        sa = kept[a]
+        for b in range(a + 1, k):
+            sb = kept[b]
+            linked = legs[a] and legs[b] and math.hypot(centre[sa, 0] - centre[sb, 0],
+                                                        centre[sa, 1] - centre[sb, 1]) <= pair_distance
+            if not linked:
+                gx = max(lo[sb, 0] - hi[sa, 0], lo[sa, 0] - hi[sb, 0], 0.0)
+                gy = max(lo[sb, 1] - hi[sa, 1], lo[sa, 1] - hi[sb, 1], 0.0)
+                linked = math.hypot(gx, gy) <= join_gap
+            if linked:
+                ra, rb = _root(root, a), _root(root, b)
+                if ra != rb:
+                    root[max(ra, rb)] = min(ra, rb)
+    # each component is labelled by its first segment: numbered in that order
+    label = np.empty(k, np.int64)
+    bodies = 0
+    for a in range(k):
+        r = _root(root, a)
+        if r == a:
+            label[a] = bodies
+            bodies += 1
+        else:
+            label[a] = label[r]
+    blo, bhi = np.full((bodies, 2), np.inf), np.full((bodies, 2), -np.inf)
+    points_in, leg_parts, parts = np.zeros(bodies, np.int64), np.zeros(bodies, np.int64), np.zeros(bodies, np.int64)
+    for a in range(k):
+        s, b = kept[a], label[a]
+        for c in range(2):
+            blo[b, c] = min(blo[b, c], lo[s, c])
+            bhi[b, c] = max(bhi[b, c], hi[s, c])
+        points_in[b] += count[s]
+        leg_parts[b] += legs[a]
+        parts[b] += 1
+    middle = np.empty((bodies, 2))
+    for b in range(bodies):
+        sx, sy = (blo[b, 0] + bhi[b, 0]) / 2, (blo[b, 1] + bhi[b, 1]) / 2
+        ax, ay = sx - robot_x, sy - robot_y
+        norm = max(math.hypot(ax, ay), 1e-9)
+        middle[b, 0], middle[b, 1] = sx + depth * ax / norm, sy + depth * ay / norm
+    # each return's distance to its body's centre: the body's radius is the farthest one's
+    reach = np.zeros(bodies)
+    for a in range(k):
+        s, b = kept[a], label[a]
+        for i in range(start[s], start[s] + count[s]):
+            reach[b] = max(reach[b], math.hypot(points[i, 0] - middle[b, 0], points[i, 1] - middle[b, 1]))
+    keep = np.empty(bodies, np.bool_)
+    score = np.empty(bodies)
+    for b in range(bodies):
+        keep[b] = points_in[b] >= min_body_points and math.hypot(bhi[b, 0] - blo[b, 0], bhi[b, 1] - blo[b, 1]) <= max_extent
+        score[b] = (confidences[0] if leg_parts[b] >= 2 and leg_parts[b] == parts[b]
+                    else confidences[1] if leg_parts[b] == 1 and parts[b] == 1 else confidences[2])
+    return middle[keep], reach[keep] + depth, score[keep]
 
 
 def group(points: np.ndarray, segments: Segments, robot_xy: np.ndarray, config: PeopleConfig) -> Bodies:
-    """The scan's bodies: ``points`` the returns the segments index (scan order)."""
-    enough = segments.count >= config.min_segment_points
-    if not enough.all():
-        kept = np.repeat(enough, segments.count)
-        points, segments = points[kept], segments.subset(enough)
+    """The scan's bodies: ``points`` the returns the segments index (scan order). Leg-wide
+    segments whose centres lie within ``pair_distance`` (a pair of legs), or any two whose
+    bounding boxes come within ``join_gap`` (a cart and its pusher), are linked; the connected
+    components of the links are the bodies (union-find, the smaller root kept), numbered by
+    their first segment, each scored by its parts (module docstring). One compiled pass
+    (numba): a scan has a few dozen segments, and the array version's calls cost more than
+    the arithmetic."""
+    c = config
     if not len(segments.count):
         return Bodies(np.zeros((0, 2)), np.zeros(0), np.zeros(0))
-    labels = components(links(segments, config))
-    # each component is labelled by its first segment's index: numbered in that order
-    first = labels == np.arange(len(labels))
-    label = (np.cumsum(first) - 1)[labels]
-    b = int(first.sum())
-    lo = np.full((b, 2), np.inf)
-    hi = np.full((b, 2), -np.inf)
-    np.minimum.at(lo, label, segments.lo)
-    np.maximum.at(hi, label, segments.hi)
-    count = np.bincount(label, segments.count, minlength=b)
-    legs = np.bincount(label, segments.width <= config.leg_width, minlength=b)
-    parts = np.bincount(label, minlength=b)
-    keep = (count >= config.min_body_points) & (np.hypot(*(hi - lo).T) <= config.max_extent)
-    seen = (lo + hi) / 2
-    away = seen - robot_xy
-    away /= np.maximum(np.hypot(*away.T), 1e-9)[:, None]
-    centre = seen + config.depth * away
-    # each return's distance to its body's centre: the body's radius is the farthest one's
-    point_label = np.repeat(label, segments.count)
-    reach = np.zeros(b)
-    np.maximum.at(reach, point_label, np.hypot(*(points - centre[point_label]).T))
-    confidence = np.where((legs >= 2) & (legs == parts), config.legs_confidence,
-                          np.where((legs == 1) & (parts == 1), config.leg_confidence, config.body_confidence))
-    return Bodies(centre[keep], (reach + config.depth)[keep], confidence[keep])
+    return Bodies(*_group(np.ascontiguousarray(points, dtype=np.float64), segments.start.astype(np.int64),
+                          segments.count.astype(np.int64), segments.lo, segments.hi, segments.centre,
+                          float(robot_xy[0]), float(robot_xy[1]), c.min_segment_points, c.min_body_points,
+                          c.leg_width, c.pair_distance, c.join_gap, c.max_extent, c.depth,
+                          np.array([c.legs_confidence, c.leg_confidence, c.body_confidence])))

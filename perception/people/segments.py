@@ -3,14 +3,18 @@
 The returns come in scan order (the lidar's rotation), so two returns next to each other in the
 array are neighbours in angle; a gap between them wider than the jump threshold (range
 dependent: the C1's angular step spreads returns with range) separates two objects. This is
-leg_tracker's and DR-SPAAM's first step, vectorised: no per-point Python.
+leg_tracker's and DR-SPAAM's first step, one compiled pass over the returns (numba: it runs
+twice a scan, and its dozen array calls cost more than the arithmetic).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
 
+import math
+
 import numpy as np
+from numba import njit
 
 
 @dataclass(frozen=True)
@@ -47,11 +51,50 @@ def unwrap(points: np.ndarray) -> np.ndarray:
     too: the C1's (and the sim's) revolution starts straight ahead, so whatever stands dead
     ahead of the robot was cut in two at the array's ends, a pair of legs into two things, a
     box seen corner-on into its two faces. The widest gap is a break between things anyway."""
-    n = len(points)
-    if n < 2:
-        return np.arange(n)
-    before = np.hypot(*np.diff(points, axis=0, prepend=points[-1:]).T)
-    return (np.arange(n) + int(np.argmax(before))) % n
+    return _unwrap(np.ascontiguousarray(points, dtype=np.float64))
+
+
+@njit(cache=True)
+def _unwrap(points):
+    n = points.shape[0]
+    widest, after = -1.0, 0
+    for i in range(n):  # the gap before each return, the first's from the last
+        dx, dy = points[i, 0] - points[i - 1, 0], points[i, 1] - points[i - 1, 1]
+        gap = dx * dx + dy * dy
+        if gap > widest:
+            widest, after = gap, i
+    return (np.arange(n) + after) % max(n, 1)
+
+
+@njit(cache=True)
+def _split(points, ranges, jump, jump_per_metre, index):
+    """``split``'s segments, one pass to find the breaks and one to sum each segment."""
+    n = points.shape[0]
+    starts = np.empty(n, np.int64)
+    starts[0] = 0
+    s = 1
+    for i in range(1, n):
+        dx, dy = points[i, 0] - points[i - 1, 0], points[i, 1] - points[i - 1, 1]
+        gap = math.sqrt(dx * dx + dy * dy)
+        if gap > jump + jump_per_metre * min(ranges[i], ranges[i - 1]) or (
+                index.shape[0] and index[i] - index[i - 1] > 1):
+            starts[s] = i
+            s += 1
+    start, count = starts[:s].copy(), np.empty(s, np.int64)
+    centre, lo, hi = np.zeros((s, 2)), np.empty((s, 2)), np.empty((s, 2))
+    for k in range(s):
+        a, b = start[k], start[k + 1] if k + 1 < s else n
+        count[k] = b - a
+        for c in range(2):
+            lo[k, c] = hi[k, c] = points[a, c]
+            total = 0.0
+            for i in range(a, b):
+                v = points[i, c]
+                total += v
+                lo[k, c] = min(lo[k, c], v)
+                hi[k, c] = max(hi[k, c], v)
+            centre[k, c] = total / (b - a)
+    return start, count, centre, lo, hi
 
 
 def split(points: np.ndarray, ranges: np.ndarray, jump: float, jump_per_metre: float,
@@ -63,17 +106,9 @@ def split(points: np.ndarray, ranges: np.ndarray, jump: float, jump_per_metre: f
     standing person's legs are 0.085 m apart surface to surface (centres half the 0.45 m body
     apart, radius 0.07), under the jump: what parts them is the far wall seen between them,
     which the map explains; without this they would be one segment, like a box's two faces."""
-    n = len(points)
-    if n == 0:
+    if len(points) == 0:
         empty = np.zeros((0, 2))
         return Segments(np.zeros(0, int), np.zeros(0, int), empty, empty, empty)
-    gaps = np.hypot(*np.diff(points, axis=0).T)
-    breaks = gaps > jump + jump_per_metre * np.minimum(ranges[1:], ranges[:-1])
-    if index is not None:
-        breaks |= np.diff(index) > 1
-    start = np.flatnonzero(np.concatenate(([True], breaks)))
-    count = np.diff(start, append=n)
-    centre = np.add.reduceat(points, start, axis=0) / count[:, None]
-    lo = np.minimum.reduceat(points, start, axis=0)
-    hi = np.maximum.reduceat(points, start, axis=0)
-    return Segments(start, count, centre, lo, hi)
+    index = np.zeros(0, np.int64) if index is None else np.asarray(index, dtype=np.int64)
+    return Segments(*_split(np.ascontiguousarray(points, dtype=np.float64),
+                            np.ascontiguousarray(ranges, dtype=np.float64), float(jump), float(jump_per_metre), index))

@@ -39,8 +39,10 @@ def patrol_with(stall):
     return world, stalled_patrol(world, mission, config, AT, stall)
 
 
-def test_a_worker_wedged_mid_patrol_is_replaced_from_the_checkpoint_and_the_patrol_goes_on():
+def test_a_worker_wedged_mid_patrol_is_replaced_from_the_checkpoint_and_the_patrol_goes_on(capfd):
     world, r = patrol_with(lambda sup: sup.stall("block"))
+    err = capfd.readouterr().err  # the wedged worker said where it was stuck before it died
+    assert "in stall" in err and "nav/slam/worker.py" in err
     assert r.doc["outcome"] == "completed"
     assert correct_pots(world, r.doc) == POTS
     assert r.deaths == 1 and r.spawned == 2 and r.restored == 1

@@ -8,8 +8,9 @@ import pytest
 
 from nav.occupancy import OCCUPIED, OccupancyMap
 from perception.people import PeopleConfig, PersonTracker
-from perception.people.bodies import components
+from perception.people.bodies import group
 from perception.people.explained import StaticScene, explained_mask
+from perception.people.segments import split
 from tests.perception.people.synthetic import POT_RADIUS, Scene, greenhouse, mapped
 
 ROBOT = (1.0, 2.0, 0.0)
@@ -143,19 +144,47 @@ def test_explained_mask_uses_the_map_cells_and_the_pots():
     assert got.tolist() == [True, True, False, True, False, True, True]
 
 
-def test_bodies_are_the_connected_components_of_the_links_labelled_by_their_first_segment():
-    rng = np.random.default_rng(5)
-    for n in (1, 2, 5, 12, 30):
-        for _ in range(20):
-            near = rng.random((n, n)) < rng.uniform(0, 0.3)
-            near = near | near.T
-            labels = components(near)
-            for a in range(n):  # reference: a search from each segment
-                seen, todo = {a}, [a]
-                while todo:
-                    b = todo.pop()
-                    for c in np.flatnonzero(near[b]).tolist():
-                        if c not in seen:
-                            seen.add(c)
-                            todo.append(c)
-                assert labels[a] == min(seen)
+def reference_bodies(points: np.ndarray, robot: np.ndarray, c: PeopleConfig) -> list[tuple[float, float]]:
+    """The bodies' centres by the rule, spelled out: segments of ``min_segment_points`` linked
+    when both leg-wide with centres within ``pair_distance`` or their boxes within ``join_gap``,
+    the components found by search, in the order of their first segment, each kept when it has
+    ``min_body_points`` and is no wider than ``max_extent``; its centre the box's middle pushed
+    ``depth`` away from the robot."""
+    segs = split(points, np.hypot(*(points - robot).T), c.jump, c.jump_per_metre)
+    kept = [k for k in range(len(segs.count)) if segs.count[k] >= c.min_segment_points]
+    leg = {k: segs.width[k] <= c.leg_width for k in kept}
+
+    def linked(a: int, b: int) -> bool:
+        gap = np.maximum(np.maximum(segs.lo[b] - segs.hi[a], segs.lo[a] - segs.hi[b]), 0.0)
+        return (leg[a] and leg[b] and math.dist(segs.centre[a], segs.centre[b]) <= c.pair_distance) \
+            or math.hypot(*gap) <= c.join_gap
+
+    out, done = [], set()
+    for a in kept:
+        if a in done:
+            continue
+        body, todo = {a}, [a]
+        while todo:
+            b = todo.pop()
+            for n in kept:
+                if n not in body and linked(b, n):
+                    body.add(n)
+                    todo.append(n)
+        done |= body
+        lo = np.min([segs.lo[k] for k in body], axis=0)
+        hi = np.max([segs.hi[k] for k in body], axis=0)
+        if sum(segs.count[k] for k in body) >= c.min_body_points and math.dist(lo, hi) <= c.max_extent:
+            mid = (lo + hi) / 2
+            out.append(tuple(mid + c.depth * (mid - robot) / np.linalg.norm(mid - robot)))
+    return out
+
+
+def test_bodies_are_the_connected_components_of_the_links_in_order():
+    c, rng = PeopleConfig(), np.random.default_rng(5)
+    for _ in range(60):
+        blobs = [rng.uniform(-3, 3, 2) + rng.normal(0, rng.uniform(0.01, 0.3), (int(rng.integers(1, 20)), 2))
+                 for _ in range(int(rng.integers(1, 12)))]
+        points, robot = np.concatenate(blobs), rng.uniform(-0.5, 0.5, 2) + 5.0
+        segs = split(points, np.hypot(*(points - robot).T), c.jump, c.jump_per_metre)
+        got = group(points, segs, robot, c).centre
+        assert np.allclose(got, np.array(reference_bodies(points, robot, c)).reshape(-1, 2), atol=1e-9)
