@@ -21,7 +21,7 @@ import numpy as np
 from numba import njit
 
 from perception.people.config import PeopleConfig
-from perception.people.segments import Segments
+from perception.people.segments import Segments, _split
 
 
 @dataclass(frozen=True)
@@ -113,6 +113,11 @@ def _group(points, start, count, lo, hi, centre, robot_x, robot_y, min_segment_p
     return middle[keep], reach[keep] + depth, score[keep]
 
 
+def _scalars(c: PeopleConfig) -> tuple:
+    return (c.min_segment_points, c.min_body_points, c.leg_width, c.pair_distance, c.join_gap, c.max_extent, c.depth,
+            np.array([c.legs_confidence, c.leg_confidence, c.body_confidence]))
+
+
 def group(points: np.ndarray, segments: Segments, robot_xy: np.ndarray, config: PeopleConfig) -> Bodies:
     """The scan's bodies: ``points`` the returns the segments index (scan order). Leg-wide
     segments whose centres lie within ``pair_distance`` (a pair of legs), or any two whose
@@ -121,11 +126,39 @@ def group(points: np.ndarray, segments: Segments, robot_xy: np.ndarray, config: 
     their first segment, each scored by its parts (module docstring). One compiled pass
     (numba): a scan has a few dozen segments, and the array version's calls cost more than
     the arithmetic."""
-    c = config
     if not len(segments.count):
         return Bodies(np.zeros((0, 2)), np.zeros(0), np.zeros(0))
     return Bodies(*_group(np.ascontiguousarray(points, dtype=np.float64), segments.start.astype(np.int64),
                           segments.count.astype(np.int64), segments.lo, segments.hi, segments.centre,
-                          float(robot_xy[0]), float(robot_xy[1]), c.min_segment_points, c.min_body_points,
-                          c.leg_width, c.pair_distance, c.join_gap, c.max_extent, c.depth,
-                          np.array([c.legs_confidence, c.leg_confidence, c.body_confidence])))
+                          float(robot_xy[0]), float(robot_xy[1]), *_scalars(config)))
+
+
+@njit(cache=True)
+def _detect(points, explained, robot_x, robot_y, min_range, max_range, jump, jump_per_metre, min_segment_points,
+            min_body_points, leg_width, pair_distance, join_gap, max_extent, depth, confidences):
+    n = points.shape[0]
+    pts, ranges = np.empty((n, 2)), np.empty(n)
+    m = 0
+    for i in range(n):
+        r = math.hypot(points[i, 0] - robot_x, points[i, 1] - robot_y)
+        if not explained[i] and min_range <= r <= max_range:
+            pts[m, 0], pts[m, 1], ranges[m] = points[i, 0], points[i, 1], r
+            m += 1
+    if m == 0:
+        return np.zeros((0, 2)), np.zeros(0), np.zeros(0)
+    pts = pts[:m]
+    start, count, centre, lo, hi = _split(pts, ranges[:m], jump, jump_per_metre, np.zeros(0, np.int64))
+    return _group(pts, start, count, lo, hi, centre, robot_x, robot_y, min_segment_points, min_body_points,
+                  leg_width, pair_distance, join_gap, max_extent, depth, confidences)
+
+
+def detect(points: np.ndarray, robot_xy: tuple[float, float], explained: np.ndarray, config: PeopleConfig) -> Bodies:
+    """One scan's bodies from its returns (N, 2, scan order): those ``explained`` (the map's and
+    the known pots', N bool) and those outside ``min_range``-``max_range`` left out, the rest
+    split into segments (``segments``) and grouped. One compiled call."""
+    c = config
+    if not len(points):
+        return Bodies(np.zeros((0, 2)), np.zeros(0), np.zeros(0))
+    return Bodies(*_detect(np.ascontiguousarray(points, dtype=np.float64), np.asarray(explained, dtype=np.bool_),
+                           float(robot_xy[0]), float(robot_xy[1]), c.min_range, c.max_range, c.jump, c.jump_per_metre,
+                           *_scalars(c)))

@@ -15,14 +15,15 @@ Nothing here reads a clock: time is the scan's ``stamp``.
 """
 from __future__ import annotations
 
+import math
 
 import numpy as np
+from numba import njit
 
 from hw.people import Person
 from perception.people import motion
-from perception.people.bodies import Bodies, group
+from perception.people.bodies import Bodies, detect
 from perception.people.config import PeopleConfig
-from perception.people.segments import split
 
 
 class PersonTracker:
@@ -48,13 +49,7 @@ class PersonTracker:
 
     def detect(self, points: np.ndarray, robot: tuple[float, float, float], explained: np.ndarray) -> Bodies:
         """One scan's person candidates (no tracking): see :meth:`update`."""
-        c = self.config
-        pts = np.asarray(points, dtype=float).reshape(-1, 2)
-        robot_xy = np.array(robot[:2], dtype=float)
-        ranges = np.hypot(*(pts - robot_xy).T)
-        keep = ~np.asarray(explained, dtype=bool) & (ranges >= c.min_range) & (ranges <= c.max_range)
-        pts, ranges = pts[keep], ranges[keep]
-        return group(pts, split(pts, ranges, c.jump, c.jump_per_metre), robot_xy, c)
+        return detect(np.asarray(points, dtype=float).reshape(-1, 2), robot[:2], explained, self.config)
 
     def update(self, stamp: float, points: np.ndarray, robot: tuple[float, float, float],
                explained: np.ndarray) -> tuple[Person, ...]:
@@ -99,20 +94,7 @@ class PersonTracker:
         """Matched (track indices, body indices): nearest pairs first, each within the gate."""
         if not len(self.ids) or not len(bodies):
             return np.zeros(0, int), np.zeros(0, int)
-        d = np.hypot(*(self.x[:, None, :2] - bodies.centre[None, :, :]).transpose(2, 0, 1))
-        tracks, body_of = [], []
-        used_t, used_b = set(), set()
-        for flat in np.argsort(d, axis=None):
-            t, b = divmod(int(flat), d.shape[1])
-            if d[t, b] > self.config.gate:
-                break
-            if t in used_t or b in used_b:
-                continue
-            used_t.add(t)
-            used_b.add(b)
-            tracks.append(t)
-            body_of.append(b)
-        return np.array(tracks, int), np.array(body_of, int)
+        return _nearest_first(np.ascontiguousarray(self.x[:, :2]), bodies.centre, self.config.gate)
 
     def _report(self, stamp: float) -> tuple[Person, ...]:
         c = self.config
@@ -126,6 +108,29 @@ class PersonTracker:
                      for k, (x, y, vx, vy), r, p, s in zip(self.ids[shown].tolist(), self.x[shown].tolist(),
                                                           self.radius[shown].tolist(), confidence[shown].tolist(),
                                                           still[shown].tolist()))
+
+
+@njit(cache=True)
+def _nearest_first(tracks, bodies, gate):
+    """Greedy matching on distance, the nearest (track, body) pair first, each within ``gate``."""
+    d = np.empty(tracks.shape[0] * bodies.shape[0])
+    for t in range(tracks.shape[0]):
+        for b in range(bodies.shape[0]):
+            d[t * bodies.shape[0] + b] = math.hypot(tracks[t, 0] - bodies[b, 0], tracks[t, 1] - bodies[b, 1])
+    used_t, used_b = np.zeros(tracks.shape[0], np.bool_), np.zeros(bodies.shape[0], np.bool_)
+    most = min(tracks.shape[0], bodies.shape[0])
+    matched_t, matched_b = np.empty(most, np.int64), np.empty(most, np.int64)
+    n = 0
+    for flat in np.argsort(d, kind="mergesort"):
+        if d[flat] > gate:
+            break
+        t, b = flat // bodies.shape[0], flat % bodies.shape[0]
+        if used_t[t] or used_b[b]:
+            continue
+        used_t[t] = used_b[b] = True
+        matched_t[n], matched_b[n] = t, b
+        n += 1
+    return matched_t[:n], matched_b[:n]
 
 
 def odom_points(scan_angles: np.ndarray, scan_ranges: np.ndarray, lidar_pose: tuple[float, float, float]) -> np.ndarray:
