@@ -41,6 +41,8 @@ from nav.occupancy import OccupancyMap
 from nav.slam.checkpoint import Checkpoint, Delta
 from nav.slam.config import SlamConfig
 from nav.slam.mapper import Mapper
+from nav.slam.planar_icp import VoxelMap
+from nav.slam.relocate import Window, relocate
 
 
 @dataclass(frozen=True)
@@ -97,9 +99,24 @@ class Reply:
     """Of ``busy_s``, wall seconds spent drawing a pending re-render whole for ``Scan.whole``."""
 
 
+def warm_up(cfg: SlamConfig) -> None:
+    """Compile (or load from numba's cache) the kernels a patrol reaches only now and then, the
+    local map's table growing and the relocation search, before the first scan, within the
+    supervisor's ``startup_timeout``; the every-scan ones compile on the first scan anyway.
+    Compiled mid-patrol, one took over ``reply_timeout`` (5 CPU s) on a busy machine and the
+    worker was killed as spinning, its map handed to a new one from the checkpoint
+    (safety.people seed 115 at stop 63, its stack at the kill: ``planar_icp._rebuild``
+    compiling, the first time the table grew)."""
+    xy = np.column_stack([np.linspace(0.5, 2.0, 16), np.linspace(-1.0, 1.0, 16)])
+    local = VoxelMap(cfg.voxel_size, cfg.local_map_range, cfg.max_points_per_voxel, slots=4)
+    local.update(xy, Pose2D())  # sixteen voxels in four slots: the table grows
+    relocate(xy, local, Pose2D(0.05, 0.0, 0.0), 0.3, 0.1, Window(np.zeros((1, 2)), np.zeros(1)))
+
+
 def serve(conn: Connection, config: dict, mount: tuple[float, float, float]) -> None:
     """The process body: map every scan that arrives until the pipe closes."""
     cfg = SlamConfig(**config)
+    warm_up(cfg)
     mapper: Mapper | None = None
     checkpoint: Checkpoint | None = None
     while True:
