@@ -16,6 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 
 @dataclass(frozen=True)
@@ -41,21 +42,37 @@ class Outline:
         self.reach = max(float(np.hypot(half_length, half_width)), arm)
         """The farthest any part of the outline is from the base centre, m (within ``margin`` of
         it: at most ``reach + margin * sqrt(2)``, the chassis' corner)."""
-        self._start = capsules.segments[:, 0]
-        self._along = capsules.segments[:, 1] - self._start
+        self._start = np.ascontiguousarray(capsules.segments[:, 0], dtype=np.float64)
+        self._along = np.ascontiguousarray(capsules.segments[:, 1] - self._start, dtype=np.float64)
         length2 = np.einsum("ij,ij->i", self._along, self._along)
         self._inverse_length2 = np.divide(1.0, length2, out=np.zeros_like(length2), where=length2 > 0)
 
     def inside(self, x: np.ndarray, y: np.ndarray, margin: float = 0.0) -> np.ndarray:
         """Which points (x, y: arrays of one shape, base frame) lie within ``margin`` of the
-        outline. All capsules at once (the arm's four one by one were 0.2 ms on a whole scan, a
-        fifth of the person tracker's budget; at once 0.08). A caller with a whole scan cuts it to
-        the points within ``reach`` first (``mission.runtime.people.People.on_robot``)."""
-        x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
-        near = (np.abs(x) < self.half_length + margin) & (np.abs(y) < self.half_width + margin)
-        if len(self._start):
-            px, py = x[..., None] - self._start[:, 0], y[..., None] - self._start[:, 1]
-            ux, uy = self._along[:, 0], self._along[:, 1]
-            t = np.clip((px * ux + py * uy) * self._inverse_length2, 0.0, 1.0)
-            near |= ((px - t * ux) ** 2 + (py - t * uy) ** 2 < (self.capsules.radius + margin) ** 2).any(axis=-1)
-        return near
+        outline. One compiled pass over the points, each tested against the box and then the
+        capsules until one holds it (the array version, all capsules at once, cost 0.08 ms on a
+        whole scan, called every scan by the monitor and the person tracker, and more on the
+        monitor's sweeps). A caller with a whole scan may cut it to the points within ``reach``
+        first (``mission.runtime.people.People.on_robot``)."""
+        x, y = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64))
+        out = _inside(np.ascontiguousarray(x).ravel(), np.ascontiguousarray(y).ravel(), self.half_length + margin,
+                      self.half_width + margin, self._start, self._along, self._inverse_length2,
+                      (self.capsules.radius + margin) ** 2)
+        return out.reshape(x.shape)
+
+
+@njit(cache=True)
+def _inside(x, y, half_length, half_width, start, along, inverse_length2, reach2):
+    out = np.zeros(x.shape[0], np.bool_)
+    for i in range(x.shape[0]):
+        if abs(x[i]) < half_length and abs(y[i]) < half_width:
+            out[i] = True
+            continue
+        for k in range(start.shape[0]):
+            px, py = x[i] - start[k, 0], y[i] - start[k, 1]
+            t = min(max((px * along[k, 0] + py * along[k, 1]) * inverse_length2[k], 0.0), 1.0)
+            dx, dy = px - t * along[k, 0], py - t * along[k, 1]
+            if dx * dx + dy * dy < reach2:
+                out[i] = True
+                break
+    return out

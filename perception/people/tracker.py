@@ -136,7 +136,17 @@ def _nearest_first(tracks, bodies, gate):
 def odom_points(scan_angles: np.ndarray, scan_ranges: np.ndarray, lidar_pose: tuple[float, float, float]) -> np.ndarray:
     """A scan's finite returns as (N, 2) points in scan order, given the lidar's pose in the
     frame wanted (odom, or map for :class:`~perception.people.explained.StaticScene`)."""
-    ok = np.isfinite(scan_ranges)
-    a = scan_angles[ok].astype(float) + lidar_pose[2]
-    r = scan_ranges[ok].astype(float)
-    return np.stack([lidar_pose[0] + r * np.cos(a), lidar_pose[1] + r * np.sin(a)], axis=1)
+    return _odom_points(np.ascontiguousarray(scan_angles, dtype=np.float64),
+                        np.ascontiguousarray(scan_ranges, dtype=np.float64), *map(float, lidar_pose))
+
+
+@njit(cache=True)
+def _odom_points(angles, ranges, x, y, yaw):
+    out = np.empty((ranges.shape[0], 2))
+    n = 0
+    for i in range(ranges.shape[0]):
+        if math.isfinite(ranges[i]):
+            a = angles[i] + yaw
+            out[n, 0], out[n, 1] = x + ranges[i] * math.cos(a), y + ranges[i] * math.sin(a)
+            n += 1
+    return out[:n]
