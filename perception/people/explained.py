@@ -42,14 +42,7 @@ class StaticScene:
         cells = int(np.ceil(margin / g.resolution))
         k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * cells + 1, 2 * cells + 1))
         static = cv2.dilate(grid.occupied().astype(np.uint8), k) if cells else grid.occupied().astype(np.uint8)
-        # the pots' discs, painted at the cells whose centre lies within reach
-        for x, y in pots:
-            ix, iy = g.cell_of(x, y)
-            r = int(np.ceil(self.reach / g.resolution)) + 1
-            xs, ys = np.meshgrid(np.arange(ix - r, ix + r + 1), np.arange(iy - r, iy + r + 1))
-            cx, cy = g.centre_of(xs, ys)
-            inside = (np.hypot(cx - x, cy - y) <= self.reach) & g.contains(xs, ys)
-            static[ys[inside], xs[inside]] = 1
+        _paint_pots(static, g.origin_x, g.origin_y, g.resolution, pots, self.reach)
         self.geometry, self.static = g, static.astype(bool).ravel()
 
     def explained(self, points_map: np.ndarray) -> np.ndarray:
@@ -62,6 +55,23 @@ class StaticScene:
             return _explained(pts, np.zeros(0, np.bool_), 0.0, 0.0, 1.0, 0, 0, self.pots, self.reach)
         return _explained(pts, self.static, g.origin_x, g.origin_y, g.resolution, g.width, g.height,
                           self.pots, self.reach)
+
+
+@njit(cache=True)
+def _paint_pots(static, origin_x, origin_y, resolution, pots, reach):
+    """Mark the cells whose centre lies within ``reach`` of a pot. Compiled: the scene is built
+    again with every new map (1 Hz), and a 48-pot greenhouse's discs one by one in numpy were
+    ~7 ms of each rebuild."""
+    height, width = static.shape
+    r = int(math.ceil(reach / resolution)) + 1
+    for k in range(pots.shape[0]):
+        ix = int(math.floor((pots[k, 0] - origin_x) / resolution))
+        iy = int(math.floor((pots[k, 1] - origin_y) / resolution))
+        for y in range(max(iy - r, 0), min(iy + r + 1, height)):
+            for x in range(max(ix - r, 0), min(ix + r + 1, width)):
+                cx, cy = origin_x + (x + 0.5) * resolution, origin_y + (y + 0.5) * resolution
+                if math.hypot(cx - pots[k, 0], cy - pots[k, 1]) <= reach:
+                    static[y, x] = 1
 
 
 @njit(cache=True)
