@@ -41,9 +41,9 @@ def test_a_link_that_raises_is_shown_and_the_console_goes_on():
     assert notes == ["resume: ConnectionError: link down"]
 
 
-def test_a_slow_link_never_builds_a_backlog_of_twists():
-    """Twists pressed while one is on its way replace each other: only the newest goes next,
-    so letting go of the key stops the robot however slow the link."""
+def behind_a_slow_one(first: str, keys: list[str], group: str) -> tuple[list, list[int]]:
+    """Press ``first`` over a link that holds it, then ``keys`` while it is stuck; what was
+    sent, in order, and how many of ``group``'s workers were busy meanwhile."""
     hold = threading.Event()
     rec = Recorder(hold=hold)
     busy = []
@@ -51,47 +51,33 @@ def test_a_slow_link_never_builds_a_backlog_of_twists():
     async def go():
         app = make_app(idle_view, rec)
         async with app.run_test(size=SIZE) as pilot:
-            await pilot.press("up")
-            for _ in range(1000):  # until the first twist is on its way (and stuck)
-                if rec.entered.is_set():
-                    break
-                await pilot.pause(0.01)
-            for key in ("left", "right", "q", "e"):
-                await pilot.press(key)
-            busy.append(sum(1 for w in app.workers if w.group == "teleop" and not w.is_finished))
-            hold.set()
-            await app.workers.wait_for_complete()
-            await pilot.pause()
-
-    asyncio.run(go())
-    assert busy == [1]
-    assert rec.sent == [UP, ("teleop", {"vx": 0.0, "vy": 0.0, "wz": -0.5})]
-
-
-def commands_behind_a_slow_one(keys: list[str]) -> tuple[list, list[int]]:
-    """Press ``p`` over a link that holds it, then ``keys`` while it is stuck; what was sent,
-    in order, and how many command workers were busy meanwhile."""
-    hold = threading.Event()
-    rec = Recorder(hold=hold)
-    busy = []
-
-    async def go():
-        app = make_app(idle_view, rec)
-        async with app.run_test(size=SIZE) as pilot:
-            await pilot.press("p")
-            for _ in range(1000):
+            await pilot.press(first)
+            for _ in range(1000):  # until the first is on its way (and stuck)
                 if rec.entered.is_set():
                     break
                 await pilot.pause(0.01)
             for key in keys:
                 await pilot.press(key)
-            busy.append(sum(1 for w in app.workers if w.group == "commands" and not w.is_finished))
+            busy.append(sum(1 for w in app.workers if w.group == group and not w.is_finished))
             hold.set()
             await app.workers.wait_for_complete()
             await pilot.pause()
 
     asyncio.run(go())
     return rec.sent, busy
+
+
+def test_a_slow_link_never_builds_a_backlog_of_twists():
+    """Twists pressed while one is on its way replace each other: only the newest goes next,
+    so letting go of the key stops the robot however slow the link."""
+    sent, busy = behind_a_slow_one("up", ["left", "right", "q", "e"], "teleop")
+    assert busy == [1]
+    assert sent == [UP, ("teleop", {"vx": 0.0, "vy": 0.0, "wz": -0.5})]
+
+
+def commands_behind_a_slow_one(keys: list[str]) -> tuple[list, list[int]]:
+    """``behind_a_slow_one`` for the operator's commands, behind a held ``pause``."""
+    return behind_a_slow_one("p", keys, "commands")
 
 
 STOP, RELEASE = ("estop", {"engaged": True}), ("estop", {"engaged": False})
