@@ -6,13 +6,18 @@ A module per idea:
   start and the known pots account for (and why not the live SLAM map).
 - :mod:`perception.people.segments`: the scan split at range jumps into segments.
 - :mod:`perception.people.shape`: a line and a circle fitted to every segment at once.
-- :mod:`perception.people.legs`: leg arcs and pairs of legs by shape (a box corner is not one), not yet
-  used by the tracker (see the module).
+- :mod:`perception.people.legs`: leg arcs and pairs of legs by shape (a box corner is not one),
+  the evidence the runtime counts per track (``mission.runtime.people``).
 - :mod:`perception.people.bodies`: segments joined into bodies (legs paired within 0.8 m, a cart
   to its pusher), walls rejected by size, each body's shape scored.
 - :mod:`perception.people.motion`: the constant-velocity Kalman filter, batched over tracks.
 - :mod:`perception.people.tracker`: :class:`PersonTracker`, scan in, ``hw.people.Person`` out.
 - :mod:`perception.people.config`: :class:`PeopleConfig`, every threshold and why.
+
+The per-scan work (the scene lookup, segments, fits, bodies, leg shapes, the association and
+the Kalman update) is compiled with numba, each module's kernel beside its idea: at the scan
+rate the array versions' hundreds of small numpy calls cost three times the arithmetic
+(``lupin bench perception.people``: 2.76 -> 0.99 ms a scan median, the same tracks to 1e-14).
 
 Only hw/ is imported from below: the tracker hands its tracks down as ``hw.people.Person``. It
 runs on the robot's CPU with no learned weights (the issue: nothing fetched at run time).
