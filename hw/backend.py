@@ -13,6 +13,9 @@ The boundaries that cannot run off the robot are parameters, so tests hand in em
 (default ``cv2.VideoCapture``). Serial devices need nothing: give a pseudo-terminal's path as
 the port. ``sleep`` is the only wait (the PCA9685 oscillator settle, the H-bridge reversal pause).
 
+The wheels are watched from a thread of their own (``hw.wheel_watchdog``): a control loop that
+stops writing while they turn has them cut within ``hw.devices.pwm.watchdog_s``.
+
 ``close()`` stops the lidar (STOP: the motor must not spin on after exit) and releases the rest;
 ``build_hw_hal`` also registers it to run at interpreter exit.
 """
@@ -42,6 +45,7 @@ from hw.errors import InputError
 from hw.estop import warn_unverified_polarity
 from hw.interfaces import DeviceError, Hal
 from hw.wall_clock import WallClock
+from hw.wheel_watchdog import WheelWatchdog
 
 log = logging.getLogger(__name__)
 
@@ -85,6 +89,8 @@ class HwBackend:
         engaged = config.estop.engaged_level
         self.wheels = HBridgeWheels(self.pwm, dev.pwm.channels, dev.pwm.reversal_pause_s, sleep,
                                     inhibit=lambda: self.button.peek() == engaged)
+        self.watchdog = WheelWatchdog(self.wheels, dev.pwm.watchdog_s).start()
+        self._closers.append(self.watchdog.close)
 
         sb = dev.servo_bus
         self.servos = HiwonderBus.open(sb.port, sb.baud, echo=sb.echo, timeout_s=sb.timeout_s, retries=sb.retries)

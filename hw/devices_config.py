@@ -32,6 +32,9 @@ class Pca9685Config(Strict):
     which is correct': UNVERIFIED)."""
     reversal_pause_s: float = Field(0.010, ge=0, le=0.1)
     """Both H-bridge channels at zero this long on a direction reversal (reference: ~10 ms)."""
+    watchdog_s: float = Field(0.5, gt=0.1, le=5.0)
+    """Wheels left turning by a write older than this are cut (``hw.wheel_watchdog``: a control
+    loop that stalls must not leave the robot driving), s: five 100 ms controller beats."""
 
 
 class Ina226Config(Strict):

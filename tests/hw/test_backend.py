@@ -80,6 +80,20 @@ def test_close_stops_the_lidar_and_turns_the_motors_off(stack, tmp_path):
         time.sleep(0.005)
     assert emu.lidar.requests[-1] == 0x25  # STOP
     assert emu.pwm.duties() == [0.0] * 16
+    assert not backend.watchdog._thread.is_alive()  # its watch ends with it
+
+
+def test_wheels_left_turning_by_a_stalled_loop_are_cut_on_the_robot(stack, tmp_path):
+    """``hw.wheel_watchdog`` on the assembled backend: a write, then silence (no control loop
+    runs here), and within the configured limit every motor output is off."""
+    emu = emulated_robot(stack, tmp_path)
+    backend = stack.enter_context(HwBackend(emu.config, **emu.boundaries()))
+    backend.hal.wheels.set_duties([0.5, 0.5, 0.5, 0.5])
+    assert max(emu.pwm.duties()) > 0.4
+    end = time.monotonic() + 10.0
+    while max(emu.pwm.duties()) > 0.0 and time.monotonic() < end:
+        time.sleep(0.02)
+    assert emu.pwm.duties() == [0.0] * 16 and backend.watchdog.cuts == 1
 
 
 @pytest.mark.parametrize("breakage, message", [
