@@ -24,14 +24,15 @@ class Clock:
         return self.t
 
 
-def rig():
+def rig(clock=None, limit: float = LIMIT):
+    """The PCA9685's twin on an emulated bus, the wheels on it and their watchdog (not started)."""
     bus = I2cBusTwin()
     twin = bus.attach(0x41, Pca9685Twin())
     pwm = Pca9685(bus, 0x41)
     pwm.start(100)
-    clock = Clock()
+    clock = clock if clock is not None else Clock()
     wheels = HBridgeWheels(pwm, CHANNELS, reversal_pause_s=0.0, clock=clock)
-    return twin, clock, wheels, WheelWatchdog(wheels, LIMIT)
+    return twin, clock, wheels, WheelWatchdog(wheels, limit)
 
 
 def test_wheels_left_turning_by_a_silent_loop_are_cut_once_and_the_next_write_drives(caplog):
@@ -63,12 +64,8 @@ def test_a_robot_standing_still_or_a_loop_that_keeps_writing_is_never_cut():
 
 
 def test_the_watchdog_thread_cuts_a_loop_that_stopped():
-    bus = I2cBusTwin()
-    twin = bus.attach(0x41, Pca9685Twin())
-    pwm = Pca9685(bus, 0x41)
-    pwm.start(100)
-    wheels = HBridgeWheels(pwm, CHANNELS, reversal_pause_s=0.0)
-    dog = WheelWatchdog(wheels, 0.15).start()
+    twin, _, wheels, dog = rig(time.monotonic, 0.15)
+    dog.start()
     try:
         wheels.set_duties([0.5, 0.5, 0.5, 0.5])  # and then nothing: the loop has stalled
         end = time.monotonic() + 10.0
