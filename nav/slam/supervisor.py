@@ -37,7 +37,6 @@ import logging
 import subprocess
 import sys
 import threading
-import time
 from multiprocessing.connection import Pipe
 from typing import Callable, Optional
 
@@ -57,8 +56,6 @@ log = logging.getLogger(__name__)
 _SLICE = 0.25
 """Seconds a lock-step wait polls between looks at the worker's CPU time: a poll that comes back
 empty has waited that long, so the wait is timed without reading a clock."""
-STACK_WAIT = 0.3
-"""Seconds a worker judged wedged is given to write its stack before it is killed."""
 
 
 class SlamSupervisor:
@@ -257,21 +254,8 @@ class SlamSupervisor:
             # so the next worker starts an empty map rather than dying the same way for ever
             log.warning("SLAM worker lost before starting from the checkpoint; the next starts an empty map")
             self.checkpoint = Checkpoint()
-        if why.endswith("wedged"):
-            self._show_stack()
         self._kill()
         self._respawn_at = now + self.cfg.respawn_delay
-
-    def _show_stack(self) -> None:
-        """Have the wedged worker write where it is stuck (``worker.STACK_SIGNAL``) before it dies:
-        a kill that only says "wedged" leaves nothing to mend. A stopped or hung process may not
-        answer; ``STACK_WAIT`` is all it gets."""
-        try:
-            self._proc.send_signal(worker.STACK_SIGNAL)
-        except OSError:
-            return
-        log.warning("SLAM worker %d's stack at the kill follows on stderr", self._proc.pid)
-        time.sleep(STACK_WAIT)
 
     def _kill(self) -> int:
         if self._proc is None:

@@ -99,6 +99,15 @@ class Reply:
     """Of ``busy_s``, wall seconds spent drawing a pending re-render whole for ``Scan.whole``."""
 
 
+STACK_AFTER = 0.8
+"""A message still being worked on after this share of the supervisor's limit for it
+(``reply_timeout``; ``startup_timeout`` until the mapper exists) has every thread's Python stack
+written to stderr (the runtime's, its journal) by ``faulthandler``'s own thread, which answers
+mid-computation, in numpy or numba too: a worker the supervisor then kills as wedged has said
+where it was stuck, not only that it was, and one only slow on a starved machine has said why.
+The worker writes it itself, before the limit: the supervisor never waits to kill."""
+
+
 def warm_up(cfg: SlamConfig) -> None:
     """Compile (or load from numba's cache) the kernels a patrol reaches only now and then, the
     local map's table growing and the relocation search, before the first scan, within the
@@ -120,10 +129,13 @@ def serve(conn: Connection, config: dict, mount: tuple[float, float, float]) -> 
     mapper: Mapper | None = None
     checkpoint: Checkpoint | None = None
     while True:
+        faulthandler.cancel_dump_traceback_later()  # waiting for a message is no wedge
         try:
             msg = conn.recv()
         except (EOFError, OSError):
             return
+        limit = cfg.startup_timeout if mapper is None else cfg.reply_timeout
+        faulthandler.dump_traceback_later(STACK_AFTER * limit)
         if isinstance(msg, Restore):
             checkpoint = msg.checkpoint
             continue
@@ -170,11 +182,6 @@ def stall(msg: Stall) -> None:
 
 #: The worker's command line after the interpreter (its classes then pickle as ``nav.slam.worker.*``,
 #: which ``-m nav.slam.worker`` would not give: there they would live in ``__main__``).
-STACK_SIGNAL = signal.SIGUSR1
-"""Asks the worker to write every thread's Python stack to stderr (``faulthandler``, at C level:
-it answers mid-computation, in numpy or numba too). The supervisor sends it before killing a
-worker it judged wedged, so the log says where it was stuck, not only that it was."""
-
 LAUNCH = ["-c", "import sys; from nav.slam.worker import main; main(sys.argv[1:])"]
 
 
@@ -182,7 +189,6 @@ def main(argv: list[str]) -> None:
     # Ctrl-C in a terminal reaches the whole process group: the runtime decides when SLAM stops
     # (it kills this worker on close or on a map reset), so the worker must not die mid-run.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    faulthandler.register(STACK_SIGNAL, all_threads=True)  # to stderr: the runtime's, its journal
     fd, config = int(argv[0]), json.loads(argv[1])
     mount = tuple(config.pop("lidar_mount"))
     serve(Connection(fd), config, mount)
