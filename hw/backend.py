@@ -88,7 +88,7 @@ class HwBackend:
         warn_unverified_polarity(config.estop, log)
         engaged = config.estop.engaged_level
         self.wheels = HBridgeWheels(self.pwm, dev.pwm.channels, dev.pwm.reversal_pause_s, sleep,
-                                    inhibit=lambda: self.button.peek() == engaged)
+                                    inhibit=lambda: self.button.peek() == engaged, clock=now)
         self.watchdog = WheelWatchdog(self.wheels, dev.pwm.watchdog_s).start()
         self._closers.append(self.watchdog.close)
 

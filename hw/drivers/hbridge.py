@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import math
 import threading
-import time
 from typing import Callable, Sequence
 
 import numpy as np
@@ -26,8 +25,10 @@ from hw.interfaces import WHEELS
 
 class HBridgeWheels:
     def __init__(self, pwm: Pca9685, channels: dict[str, tuple[int, int]], reversal_pause_s: float = 0.010,
-                 sleep: Callable[[float], None] | None = None, inhibit: Callable[[], bool] | None = None,
-                 clock: Callable[[], float] = time.monotonic):
+                 sleep: Callable[[float], None] | None = None, inhibit: Callable[[], bool] | None = None, *,
+                 clock: Callable[[], float]):
+        """``clock``: the hardware clock's seconds (``hw.wall_clock.WallClock.now``), which each
+        write is stamped with for the watchdog."""
         missing = [w for w in WHEELS if w not in channels]
         if missing:
             raise ValueError(f"no PCA9685 channels for wheel(s) {', '.join(missing)}")

@@ -269,14 +269,9 @@ class People:
         centre: a circle of 0.25 m (the seed's "consumers drop < 0.25 m") hid the legs of a worker
         who walked up to the robot's front, 0.17-0.24 m from its centre, and the robot, told of no
         one, went on aligning while they touched it (safety.people seed 115 at stop 61, 516 s)."""
-        body = self.body()
-        dx, dy = points[:, 0] - odom.x, points[:, 1] - odom.y
-        reach = body.reach + math.sqrt(2.0) * self.body_margin
-        own = dx * dx + dy * dy < reach * reach  # a scan's few near returns are tested, not all
         c, s = math.cos(odom.yaw), math.sin(odom.yaw)
-        dx, dy = dx[own], dy[own]
-        own[own] = body.inside(c * dx + s * dy, c * dy - s * dx, self.body_margin)
-        return own
+        dx, dy = points[:, 0] - odom.x, points[:, 1] - odom.y
+        return self.body().inside(c * dx + s * dy, c * dy - s * dx, self.body_margin)
 
     def _stood_at_start(self, stamp: float, pairs: np.ndarray, first: np.ndarray, m2o: Pose2D) -> bool:
         """Someone standing where only the first map explains returns (``stood_at_start``):

@@ -10,6 +10,11 @@ from hw.interfaces import DeviceError
 CHANNELS = {"front_left": (2, 3), "front_right": (1, 0), "rear_left": (6, 7), "rear_right": (5, 4)}
 
 
+def STILL() -> float:
+    """A clock for wheels no watchdog watches here."""
+    return 0.0
+
+
 def rig(**kw):
     bus = I2cBusTwin()
     twin = bus.attach(0x41, Pca9685Twin())
@@ -81,7 +86,7 @@ def test_nack_while_running_is_a_device_error():
 def test_hbridge_forward_on_a_reverse_on_b():
     _, twin, pwm, _ = rig()
     pwm.start(100)
-    wheels = HBridgeWheels(pwm, CHANNELS)
+    wheels = HBridgeWheels(pwm, CHANNELS, clock=STILL)
     wheels.set_duties([0.5, -0.25, 1.0, 0.0])
     d = twin.duties()
     assert d[2] == pytest.approx(0.5, abs=1e-3) and d[3] == 0.0  # front_left A/B
@@ -93,7 +98,7 @@ def test_hbridge_forward_on_a_reverse_on_b():
 def test_hbridge_reversal_zeroes_both_channels_for_the_pause_first():
     bus, twin, pwm, sleeps = rig()
     pwm.start(100)
-    wheels = HBridgeWheels(pwm, CHANNELS, reversal_pause_s=0.010, sleep=sleeps.append)
+    wheels = HBridgeWheels(pwm, CHANNELS, reversal_pause_s=0.010, sleep=sleeps.append, clock=STILL)
     wheels.set_duties([0.5, 0.5, 0.5, 0.5])
     sleeps.clear()
     seen = []
@@ -112,7 +117,7 @@ def test_hbridge_inhibit_turns_every_output_off():
     pwm.start(100)
     pressed = [False]
     pwm.set_duty(15, 0.7)  # a non-wheel channel
-    wheels = HBridgeWheels(pwm, CHANNELS, inhibit=lambda: pressed[0])
+    wheels = HBridgeWheels(pwm, CHANNELS, inhibit=lambda: pressed[0], clock=STILL)
     wheels.set_duties([0.5] * 4)
     pressed[0] = True
     wheels.set_duties([0.9] * 4)
@@ -125,7 +130,7 @@ def test_hbridge_inhibit_turns_every_output_off():
 def test_hbridge_non_finite_duty_is_zero():
     _, twin, pwm, _ = rig()
     pwm.start(100)
-    HBridgeWheels(pwm, CHANNELS).set_duties([float("nan"), float("inf"), 0.3, 0.3])
+    HBridgeWheels(pwm, CHANNELS, clock=STILL).set_duties([float("nan"), float("inf"), 0.3, 0.3])
     assert twin.duty(2) == 0.0 and twin.duty(3) == 0.0
     assert twin.duty(1) == 0.0 and twin.duty(0) == 0.0  # inf is garbage too, not full speed
     assert twin.duty(6) == pytest.approx(0.3, abs=1e-3)

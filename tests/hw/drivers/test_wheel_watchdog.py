@@ -10,6 +10,7 @@ from hw.drivers.hbridge import HBridgeWheels
 from hw.drivers.pca9685 import Pca9685
 from hw.emulators.i2c_bus import I2cBusTwin
 from hw.emulators.pca9685 import Pca9685Twin
+from hw.wall_clock import WallClock
 from hw.wheel_watchdog import WheelWatchdog
 
 CHANNELS = {"front_left": (2, 3), "front_right": (1, 0), "rear_left": (6, 7), "rear_right": (5, 4)}
@@ -64,7 +65,7 @@ def test_a_robot_standing_still_or_a_loop_that_keeps_writing_is_never_cut():
 
 
 def test_the_watchdog_thread_cuts_a_loop_that_stopped():
-    twin, _, wheels, dog = rig(time.monotonic, 0.15)
+    twin, _, wheels, dog = rig(WallClock().now, 0.15)  # the backend's clock
     dog.start()
     try:
         wheels.set_duties([0.5, 0.5, 0.5, 0.5])  # and then nothing: the loop has stalled
