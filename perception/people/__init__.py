@@ -17,7 +17,8 @@ A module per idea:
 The per-scan work (the scene lookup, segments, fits, bodies, leg shapes, the association and
 the Kalman update) is compiled with numba, each module's kernel beside its idea: at the scan
 rate the array versions' hundreds of small numpy calls cost three times the arithmetic
-(``lupin bench perception.people``: 2.76 -> 0.99 ms a scan median, the same tracks to 1e-14).
+(``lupin bench perception.people`` at stop 63 on a quiet machine: 2.61-2.66 -> 0.72-0.93 ms a
+scan median, the same tracks to 1e-14).
 
 Only hw/ is imported from below: the tracker hands its tracks down as ``hw.people.Person``. It
 runs on the robot's CPU with no learned weights (the issue: nothing fetched at run time).

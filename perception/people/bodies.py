@@ -13,9 +13,8 @@ front, a crouching worker's outline, an unmapped crate), a person until shown ot
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit

@@ -38,10 +38,18 @@ from perception.people.segments import Segments, _split, _unwrap
 from perception.people.shape import DAMPING, GEOMETRIC_STEPS, Fits, _fit
 
 
+@njit(cache=True)
+def _leg_sized(count, lo, hi, leg_width):
+    out = np.empty(len(count), np.bool_)
+    for k in range(len(count)):
+        out[k] = count[k] >= 3 and math.hypot(hi[k, 0] - lo[k, 0], hi[k, 1] - lo[k, 1]) <= leg_width
+    return out
+
+
 def leg_sized(segments: Segments, config: PeopleConfig) -> np.ndarray:
     """(S,) bool: the segments that could be leg arcs by size alone (three returns or more, no
     wider than a leg): the only ones ``find`` fits a circle to."""
-    return (segments.count >= 3) & (segments.width <= config.leg_width)
+    return _leg_sized(segments.count.astype(np.int64), segments.lo, segments.hi, config.leg_width)
 
 
 @njit(cache=True)
@@ -127,7 +135,7 @@ def _find(points, explained, robot_x, robot_y, min_range, max_range, jump, jump_
     if m == 0:
         return np.zeros((0, 2)), np.zeros((0, 2))
     start, count, centre, lo, hi = _split(pts[:m], ranges[:m], jump, jump_per_metre, index[:m])
-    can = np.flatnonzero((count >= 3) & (np.sqrt((hi[:, 0] - lo[:, 0]) ** 2 + (hi[:, 1] - lo[:, 1]) ** 2) <= leg_width))
+    can = np.flatnonzero(_leg_sized(count, lo, hi, leg_width))
     start, count, centre = start[can], count[can], centre[can]  # the fits, only where a leg could be
     _, radius, circle_rms, circle_centre = _fit(pts, start, count, GEOMETRIC_STEPS, DAMPING)
     leg = _arcs(centre, circle_centre, circle_rms, radius, robot_x, robot_y, arc_rms, radius_lo, radius_hi)

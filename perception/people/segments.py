@@ -32,16 +32,9 @@ class Segments:
     hi: np.ndarray
     """(S, 2) upper-right corner."""
 
-    def subset(self, keep: np.ndarray) -> "Segments":
-        """The segments where ``keep`` holds, their returns renumbered contiguously (the
-        caller keeps the same returns)."""
-        count = self.count[keep]
-        return Segments((np.cumsum(count) - count).astype(int), count,
-                        self.centre[keep], self.lo[keep], self.hi[keep])
-
     @cached_property
     def width(self) -> np.ndarray:
-        """Bounding-box diagonal of each segment, m (asked by each pass: worked out once)."""
+        """Bounding-box diagonal of each segment, m."""
         return np.hypot(*(self.hi - self.lo).T)
 
 
