@@ -42,61 +42,74 @@ written off the robot's thread, and may land just after the pot's status came.""
 NO_HISTORY = "this link cannot read the robot's history"
 
 
-class Latest:
-    """A one-slot mailbox between the UI and one worker: ``put`` replaces what waits and says
-    whether a worker must be started; ``take`` returns the waiting item, or None and marks the
-    worker gone (both under one lock, so no item is ever stranded)."""
+class Mailbox:
+    """Items between the UI and one worker: ``put`` keeps an item (``_keep``) and says whether a
+    worker must be started; ``take`` returns the next (``_next``), or None and marks the worker
+    gone (both under one lock, so no item is ever stranded)."""
 
     def __init__(self) -> None:
         self._lock = threading.Lock()
-        self._item: Any = None
         self._draining = False
 
     def put(self, item: Any) -> bool:
         with self._lock:
-            self._item = item
+            self._keep(item)
             start, self._draining = not self._draining, True
             return start
 
     def take(self) -> Any:
         with self._lock:
-            item, self._item = self._item, None
+            item = self._next()
             if item is None:
                 self._draining = False
             return item
 
+    def _keep(self, item: Any) -> None:
+        raise NotImplementedError
 
-class InOrder:
-    """The console's commands for one worker, delivered in the order they were pressed.
+    def _next(self) -> Any:
+        raise NotImplementedError
+
+
+class Latest(Mailbox):
+    """A one-slot mailbox: ``put`` replaces what waits."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self._item: Any = None
+
+    def _keep(self, item: Any) -> None:
+        self._item = item
+
+    def _next(self) -> Any:
+        item, self._item = self._item, None
+        return item
+
+
+class InOrder(Mailbox):
+    """The console's commands, (command, args), delivered in the order they were pressed.
 
     A worker per command let them race: a release pressed just after a stop could reach the
     robot first and be undone by it, and worse, a stop pressed just after a release could land
     first and be undone by the release (the robot free while the operator's last press was
     STOP). One worker keeps the order. A stop (``estop`` engaged) goes to the front and takes any
     release still waiting with it: the last press of the stop key wins, and a stop never waits
-    behind more than the one command already on its way. ``put``/``take`` as ``Latest``."""
+    behind more than the one command already on its way."""
 
     def __init__(self) -> None:
-        self._lock = threading.Lock()
+        super().__init__()
         self._items: deque[tuple[str, dict[str, Any]]] = deque()
-        self._draining = False
 
-    def put(self, command: str, args: dict[str, Any]) -> bool:
-        with self._lock:
-            if command == "estop" and args.get("engaged"):
-                self._items = deque(i for i in self._items if i[0] != "estop")
-                self._items.appendleft((command, args))
-            else:
-                self._items.append((command, args))
-            start, self._draining = not self._draining, True
-            return start
+    def _keep(self, item: tuple[str, dict[str, Any]]) -> None:
+        command, args = item
+        if command == "estop" and args.get("engaged"):
+            self._items = deque(i for i in self._items if i[0] != "estop")
+            self._items.appendleft(item)
+        else:
+            self._items.append(item)
 
-    def take(self) -> tuple[str, dict[str, Any]] | None:
-        with self._lock:
-            if not self._items:
-                self._draining = False
-                return None
-            return self._items.popleft()
+    def _next(self) -> tuple[str, dict[str, Any]] | None:
+        return self._items.popleft() if self._items else None
 
 
 class ConsoleApp(App):
@@ -208,7 +221,7 @@ class ConsoleApp(App):
 
     def send(self, command: str, /, **args: Any) -> None:
         """Send a command in its turn (``InOrder``); a refusal comes back as a message."""
-        if self._orders.put(command, args):
+        if self._orders.put((command, args)):
             self._send_in_order()
 
     @work(thread=True, group="commands")

@@ -105,9 +105,9 @@ def _raster_scores(xy, near, x0, y0, cell, gx, gy, gyaw, offsets, turns):
 class Raster(NamedTuple):
     """The local map's cells within about ``INLIER`` of one of its points, for ranking the
     candidates: the exact test (the nearest point among 3 x 3 voxels) cost 0.9 CPU s for the near
-    window and 4.9 s for the wide one on a 1,650-point scan, and a worker 5 CPU s on one scan
-    is killed as spinning (safety.people seed 115: the wide search did exactly that, and the map
-    was lost mid-patrol). A raster of ``CELL`` answers each point with one read; the ranking only
+    window and 4.9 s for the wide one on a 1,650-point scan (a greenhouse room, synthetic), while
+    a worker 5 CPU s on one scan is killed as spinning (``nav.slam.liveness``) and a lost robot
+    searches every scan. A raster of ``CELL`` answers each point with one read; the ranking only
     picks the ``REFINED`` candidates to register, which are then judged exactly (``fitted``)."""
 
     near: np.ndarray
