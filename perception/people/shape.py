@@ -12,8 +12,9 @@ no wider than a leg) or from a moved pot (one arc): issue 28 items 1-2. What can
 Both fits are linear least squares, sums over each segment's returns in one compiled loop
 (numba: the numpy version's sixty-odd array calls a scan cost more than the arithmetic): the
 line is the principal axis of the returns (its RMS residual the square root of the smaller
-eigenvalue of their covariance), the circle the algebraic (Kasa) fit x^2 + y^2 + D x + E y + F = 0 on coordinates centred on the segment's mean,
-which makes the 3x3 normal equations split into F and a closed-form 2x2 solve. The Kasa fit
+eigenvalue of their covariance), the circle the algebraic (Kasa) fit x^2 + y^2 + D x + E y + F
+= 0 on coordinates centred on the segment's mean, which makes the 3x3 normal equations split
+into F and a closed-form 2x2 solve. The Kasa fit
 pulls the radius of a short noisy arc inwards (a 0.10 m pot came out at a leg's 0.06-0.08 in a
 third of the scans), so a few Gauss-Newton steps on the returns' true distances from the circle
 follow, which brings the pots back near 0.10: their 3x3 normal equations are solved in closed
