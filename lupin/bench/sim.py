@@ -28,7 +28,7 @@ def realtime(config: LupinConfig) -> Sample:
         t0 = time.perf_counter()
         run.robot.scheduler.run_until(RUN_SIM_S)
         times.append((time.perf_counter() - t0) * 1000.0 / RUN_SIM_S)
-        run.sim.close()
+        run.close()
     rtf = 1000.0 / np.asarray(times)
     return Sample(times, {"rtf_median": round(float(np.median(rtf)), 1),
                           "rtf_p5": round(float(np.percentile(rtf, 5)), 1),

@@ -94,10 +94,13 @@ def drive(
     from mission.jobs.drive_report import format_results, results_json
 
     run = run_drive(w, config, route)
-    print(format_results(run))
-    out.mkdir(parents=True, exist_ok=True)
-    save_config(config, out)
-    write_atomic(out / "drive.json", json.dumps(results_json(run), indent=2).encode())
+    try:
+        print(format_results(run))
+        out.mkdir(parents=True, exist_ok=True)
+        save_config(config, out)
+        write_atomic(out / "drive.json", json.dumps(results_json(run), indent=2).encode())
+    finally:
+        run.close()  # the sim and its temporary state directory
     if run.held:
         print(f"route {route!r} stopped: {run.held}", file=sys.stderr)
         raise typer.Exit(1)

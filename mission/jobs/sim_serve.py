@@ -36,5 +36,5 @@ def start_sim_service(world: World, config: LupinConfig, runs: Path, wall_now: C
         return pose_error(compose(dock, rt.sim.truth()), goal)
 
     return Service(rt.robot, nav, config, sim_perception(config), Path(runs), wall_now, lambda: mission_from_world(world),
-                   TableClimate(world.climate_readings()), truth_error, rt.sim.close, history=history, world=world.name)
+                   TableClimate(world.climate_readings()), truth_error, rt.close_backend, history=history, world=world.name)
 

@@ -29,6 +29,11 @@ class SimRuntime:
 
     def close(self) -> None:
         self.robot.close()
+        self.close_backend()
+
+    def close_backend(self) -> None:
+        """The sim, and this run's temporary state directory with it (a service closes its robot
+        first, then this: a sim run leaves nothing behind in the temporary directory)."""
         self.sim.close()
         if self.robot.config.runtime.state_dir is None:
             shutil.rmtree(self.state, ignore_errors=True)

@@ -14,7 +14,7 @@ def _trajectory(seed: int, seconds: float = 12.0) -> np.ndarray:
     poses = []
     run.robot.scheduler.every("record", 10.0, lambda t: poses.append((t, *run.sim.engine.data.qpos[:3], *run.sim.drive.duties)))
     run.robot.scheduler.run_until(seconds)
-    run.sim.close()
+    run.close()
     return np.array(poses)
 
 
