@@ -49,8 +49,11 @@ def test_r1s_command_moves_r1_and_not_r2_and_no_runtime_runs_behind_the_engine(t
         assert all(engine <= due + 1e-9 for engine, due in steps)  # lock-step: the engine never ahead of a step
         assert fleet.services["r1"].robot.config.link.robot == "r1" and fleet.services["r2"].robot.config.link.robot == "r2"
         assert len(logged) >= 8 and all(task == logging_as for task, logging_as in logged)  # each its own log
+        states = [s.robot.estop.latch.directory for s in fleet.services.values()]
+        assert all(d.is_dir() for d in states)
     finally:
         fleet.close()
+    assert not any(d.exists() for d in states)  # each run's temporary state directory went with it
 
 
 @pytest.mark.slow
