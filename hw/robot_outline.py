@@ -52,24 +52,33 @@ class Outline:
         capsules until one holds it: a whole scan costs no more than its few near returns cut
         out first did in numpy (the monitor and the person tracker test every scan)."""
         x, y = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64))
-        out = _inside(np.ascontiguousarray(x).ravel(), np.ascontiguousarray(y).ravel(), self.half_length + margin,
-                      self.half_width + margin, self._start, self._along, self._inverse_length2,
-                      (self.capsules.radius + margin) ** 2)
+        out = _inside(np.ascontiguousarray(x).ravel(), np.ascontiguousarray(y).ravel(), *self.kernel(margin))
         return out.reshape(x.shape)
+
+    def kernel(self, margin: float = 0.0) -> tuple:
+        """The outline grown by ``margin`` as compiled code takes it (``holds``' arguments after
+        the point): for a caller that tests points inside its own compiled pass."""
+        return (self.half_length + margin, self.half_width + margin, self._start, self._along,
+                self._inverse_length2, (self.capsules.radius + margin) ** 2)
+
+
+@njit(cache=True)
+def holds(x, y, half_length, half_width, start, along, inverse_length2, reach2):
+    """Does the outline (``Outline.kernel``'s arguments) hold the base-frame point (x, y)?"""
+    if abs(x) < half_length and abs(y) < half_width:
+        return True
+    for k in range(start.shape[0]):
+        px, py = x - start[k, 0], y - start[k, 1]
+        t = min(max((px * along[k, 0] + py * along[k, 1]) * inverse_length2[k], 0.0), 1.0)
+        dx, dy = px - t * along[k, 0], py - t * along[k, 1]
+        if dx * dx + dy * dy < reach2:
+            return True
+    return False
 
 
 @njit(cache=True)
 def _inside(x, y, half_length, half_width, start, along, inverse_length2, reach2):
     out = np.zeros(x.shape[0], np.bool_)
     for i in range(x.shape[0]):
-        if abs(x[i]) < half_length and abs(y[i]) < half_width:
-            out[i] = True
-            continue
-        for k in range(start.shape[0]):
-            px, py = x[i] - start[k, 0], y[i] - start[k, 1]
-            t = min(max((px * along[k, 0] + py * along[k, 1]) * inverse_length2[k], 0.0), 1.0)
-            dx, dy = px - t * along[k, 0], py - t * along[k, 1]
-            if dx * dx + dy * dy < reach2:
-                out[i] = True
-                break
+        out[i] = holds(x[i], y[i], half_length, half_width, start, along, inverse_length2, reach2)
     return out

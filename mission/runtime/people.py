@@ -51,13 +51,14 @@ from hw.people_guard import PeopleGuard
 from hw.robot_outline import Outline
 from mission.runtime.greenhouse import Greenhouse
 from mission.runtime.stood_at_start import StoodAtStart, first_only, pairs_on
-from nav.frames import compose, inverse, transform_points
+from nav.frames import compose, inverse
 from nav.occupancy import OccupancyMap
 from nav.walks import STRIDING
 from perception.people.config import PeopleConfig
 from perception.people.explained import StaticScene
 from perception.people.legs import LegShapes, find as find_legs
-from perception.people.tracker import PersonTracker, odom_points
+from perception.people.returns import returns
+from perception.people.tracker import PersonTracker
 
 if TYPE_CHECKING:
     from mission.runtime.robot import Robot
@@ -122,7 +123,7 @@ class People:
                  occupancy: Callable[[], Optional[OccupancyMap]], body: Callable[[], Outline], body_margin: float):
         """``body``: the robot's outline as it stands now (the chassis and the arm, base frame:
         the collision monitor's), ``body_margin`` round it, m: the returns within it are the
-        robot's own and dropped before the tracker sees them (``on_robot``)."""
+        robot's own and dropped before the tracker sees them (``perception.people.returns``)."""
         self.config = config
         self.tracker = PersonTracker(config)
         self.scan, self.odom_pose, self.mount = scan, odom_pose, lidar_mount
@@ -227,12 +228,10 @@ class People:
         if scan is None or scan.stamp == self._stamp:
             return
         self._stamp = scan.stamp
-        odom = self.odom_pose()
+        odom, m2o = self.odom_pose(), self.map_to_odom()
         lidar = compose(odom, self.mount)
-        points = odom_points(scan.angles, scan.ranges, (lidar.x, lidar.y, lidar.yaw))
-        points = points[~self.on_robot(points, odom)]
-        m2o = self.map_to_odom()
-        in_map = transform_points(m2o, points)
+        points, in_map = returns(scan.angles, scan.ranges, (lidar.x, lidar.y, lidar.yaw), (odom.x, odom.y, odom.yaw),
+                                 self.body(), self.body_margin, (m2o.x, m2o.y, m2o.yaw))
         explained, bare = house.scene.explained(in_map), house.bare.explained(in_map)
         lidar_xy = np.array([lidar.x, lidar.y])
         first = first_only(points, lidar_xy, explained, bare)
@@ -253,25 +252,15 @@ class People:
         # a track that jumped (its detection hopped to another thing: the next unknown pot of a
         # row, the far end of a wall) starts its walk again from where it landed
         self._origin = {p.id: (p.x, p.y) if p.id not in self._origin or p.id not in last
-                        or np.hypot(p.x - last[p.id][0], p.y - last[p.id][1]) > HOP
+                        or math.hypot(p.x - last[p.id][0], p.y - last[p.id][1]) > HOP
                         else self._origin[p.id] for p in self.tracks}
         self.walked = {p.id for p in self.tracks if p.id in self.walked
-                       or np.hypot(p.x - self._origin[p.id][0], p.y - self._origin[p.id][1]) > WALKED}
+                       or math.hypot(p.x - self._origin[p.id][0], p.y - self._origin[p.id][1]) > WALKED}
         robots = self._robots_in_odom()
         self._shown = tuple(p for p in self.tracks
                             if not any(math.hypot(x - p.x, y - p.y) <= ROBOT_REACH for x, y in robots)
                             and (p.id in self.walked or p.id in self.inherited or self.legged(p.id)))
         self._widest = {p.id: max(p.radius, self._widest.get(p.id, 0.0)) for p in self._shown}
-
-    def on_robot(self, points: np.ndarray, odom: Pose2D) -> np.ndarray:
-        """Which of the (N, 2) odom-frame ``points`` lie on the robot itself (within
-        ``body_margin`` of its outline as it stands). The outline and not a circle round the
-        centre: a circle of 0.25 m (the seed's "consumers drop < 0.25 m") hid the legs of a worker
-        who walked up to the robot's front, 0.17-0.24 m from its centre, and the robot, told of no
-        one, went on aligning while they touched it (safety.people seed 115 at stop 61, 516 s)."""
-        c, s = math.cos(odom.yaw), math.sin(odom.yaw)
-        dx, dy = points[:, 0] - odom.x, points[:, 1] - odom.y
-        return self.body().inside(c * dx + s * dy, c * dy - s * dx, self.body_margin)
 
     def _stood_at_start(self, stamp: float, pairs: np.ndarray, first: np.ndarray, m2o: Pose2D) -> bool:
         """Someone standing where only the first map explains returns (``stood_at_start``):
@@ -339,8 +328,8 @@ class People:
         for p in raw:
             if self._alias.get(p.id, p.id) in shown or not self._gone:
                 continue
-            d = [np.hypot(p.x - x, p.y - y) for x, y, _, _ in self._gone]
-            k = int(np.argmin(d))
+            d = [math.hypot(p.x - x, p.y - y) for x, y, _, _ in self._gone]
+            k = d.index(min(d))
             if d[k] <= REBORN:
                 whose = self._gone.pop(k)[3]
                 if whose is not None:
@@ -378,7 +367,7 @@ class People:
         forgotten."""
         ids = [p.id for p in self.tracks]
         self.pairs = {k: self.pairs.get(k, 0) for k in ids}
-        self.arcs = {k: self.arcs.get(k, deque(maxlen=LEG_WINDOW)) for k in ids}
+        self.arcs = {k: self.arcs[k] if k in self.arcs else deque(maxlen=LEG_WINDOW) for k in ids}
         at = np.array([(p.x, p.y) for p in self.tracks])
         for k in self._nearest(at, shapes.pairs):
             self.pairs[ids[k]] += 1

@@ -27,6 +27,7 @@ import math
 
 import cv2
 import numpy as np
+from numba import njit
 
 from hw.odometry import Pose2D
 from nav.frames import transform_points
@@ -73,12 +74,20 @@ class StoodAtStart:
         return sure
 
 
+@njit(cache=True)
 def first_only(points: np.ndarray, lidar_xy: np.ndarray, explained: np.ndarray,
                bare: np.ndarray) -> np.ndarray:
     """(M, 2) the returns of ``points`` within ``RANGE`` of the lidar that only the first map
-    explains (``explained`` by the whole scene, not ``bare``: its structure and known pots)."""
-    near = np.hypot(points[:, 0] - lidar_xy[0], points[:, 1] - lidar_xy[1]) <= RANGE
-    return points[explained & ~bare & near]
+    explains (``explained`` by the whole scene, not ``bare``: its structure and known pots).
+    Compiled: it runs on every scan, and its numpy version's temporaries cost more than the
+    few returns it usually keeps."""
+    out = np.empty_like(points)
+    n = 0
+    for i in range(points.shape[0]):
+        if explained[i] and not bare[i] and math.hypot(points[i, 0] - lidar_xy[0], points[i, 1] - lidar_xy[1]) <= RANGE:
+            out[n] = points[i]
+            n += 1
+    return out[:n]
 
 
 def pairs_on(pairs: np.ndarray, first: np.ndarray, m2o: Pose2D) -> np.ndarray:

@@ -25,6 +25,7 @@ runs on the robot's CPU with no learned weights (the issue: nothing fetched at r
 """
 from perception.people.config import PeopleConfig
 from perception.people.explained import StaticScene, explained_mask
-from perception.people.tracker import PersonTracker, odom_points
+from perception.people.returns import odom_points
+from perception.people.tracker import PersonTracker
 
 __all__ = ["PeopleConfig", "PersonTracker", "StaticScene", "explained_mask", "odom_points"]

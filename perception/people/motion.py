@@ -7,8 +7,6 @@ with an unknown velocity (1 m/s standard deviation: anything from standing to a 
 """
 from __future__ import annotations
 
-from functools import lru_cache
-
 import numpy as np
 from numba import njit
 
@@ -16,41 +14,48 @@ UNKNOWN_SPEED_STD = 1.0
 """A new track's velocity standard deviation, m/s."""
 
 
-def start(z: np.ndarray, measurement_std: float) -> tuple[np.ndarray, np.ndarray]:
+@njit(cache=True)
+def start(z, measurement_std):
     """States and covariances of tracks born at the (M, 2) detections ``z``."""
-    m = len(z)
-    x = np.zeros((m, 4))
-    x[:, :2] = z
-    p = np.zeros((m, 4, 4))
-    p[:, [0, 1], [0, 1]] = measurement_std ** 2
-    p[:, [2, 3], [2, 3]] = UNKNOWN_SPEED_STD ** 2
+    m = z.shape[0]
+    x, p = np.zeros((m, 4)), np.zeros((m, 4, 4))
+    for t in range(m):
+        x[t, 0], x[t, 1] = z[t, 0], z[t, 1]
+        p[t, 0, 0] = p[t, 1, 1] = measurement_std ** 2
+        p[t, 2, 2] = p[t, 3, 3] = UNKNOWN_SPEED_STD ** 2
     return x, p
 
 
-@lru_cache(maxsize=8)
-def transition(dt: float, accel_std: float) -> tuple[np.ndarray, np.ndarray]:
-    """The motion model over ``dt`` and its process noise, (F, Q), kept for the next scan with
-    the same ``dt`` (the sim's scans come every 0.1 s to the bit; the robot's stamps jitter, and
-    a miss costs what building them always did). Read-only: they are shared."""
-    f = np.eye(4)
-    f[0, 2] = f[1, 3] = dt
-    g = np.array([[dt * dt / 2, 0.0], [0.0, dt * dt / 2], [dt, 0.0], [0.0, dt]])
-    q = accel_std ** 2 * g @ g.T
-    f.setflags(write=False)
-    q.setflags(write=False)
-    return f, q
-
-
-def predict(x: np.ndarray, p: np.ndarray, dt: float, accel_std: float) -> tuple[np.ndarray, np.ndarray]:
-    """Every track moved on by ``dt`` seconds."""
-    f, q = transition(dt, accel_std)
-    return x @ f.T, f @ p @ f.T + q
+@njit(cache=True)
+def predict(x, p, dt, accel_std):
+    """Every track moved on by ``dt`` seconds: x F^T and F P F^T + Q, F the constant-velocity
+    model and Q its white-acceleration noise (a^2 G G^T, G = [dt^2/2 I; dt I]), written out:
+    a handful of tracks cost less in loops than in batched matmuls."""
+    x, p = x.copy(), p.copy()
+    a2, h = accel_std ** 2, dt * dt / 2.0
+    for t in range(x.shape[0]):
+        x[t, 0] += dt * x[t, 2]
+        x[t, 1] += dt * x[t, 3]
+        for row in range(2):  # F P: position rows take dt times their velocity rows
+            for col in range(4):
+                p[t, row, col] += dt * p[t, row + 2, col]
+        for row in range(4):  # (F P) F^T: the same on the columns
+            for col in range(2):
+                p[t, row, col] += dt * p[t, row, col + 2]
+        for axis in range(2):
+            v = axis + 2
+            p[t, axis, axis] += a2 * h * h
+            p[t, axis, v] += a2 * h * dt
+            p[t, v, axis] += a2 * h * dt
+            p[t, v, v] += a2 * dt * dt
+    return x, p
 
 
 @njit(cache=True)
-def _correct(x, p, z, r2):
-    """The Kalman update of each track by its detection, the 2x2 innovation inverted in closed
-    form (a batched ``inv`` and ``einsum`` cost more than the arithmetic for a handful)."""
+def correct(x, p, z, r2):
+    """The Kalman update of each track by its detection (``r2``: the measurement variance), the
+    2x2 innovation inverted in closed form (a batched ``inv`` and ``einsum`` cost more than the
+    arithmetic for a handful)."""
     x, p = x.copy(), p.copy()
     for t in range(x.shape[0]):
         a, b, d = p[t, 0, 0] + r2, p[t, 0, 1], p[t, 1, 1] + r2
@@ -69,9 +74,3 @@ def _correct(x, p, z, r2):
             for col in range(4):
                 p[t, row, col] -= gain[row, 0] * top[0, col] + gain[row, 1] * top[1, col]
     return x, p
-
-
-def correct(x: np.ndarray, p: np.ndarray, z: np.ndarray, measurement_std: float) -> tuple[np.ndarray, np.ndarray]:
-    """Tracks (K of them) updated by their (K, 2) detections."""
-    return _correct(np.ascontiguousarray(x, dtype=np.float64), np.ascontiguousarray(p, dtype=np.float64),
-                    np.ascontiguousarray(z, dtype=np.float64), float(measurement_std) ** 2)

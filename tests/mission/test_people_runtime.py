@@ -119,27 +119,6 @@ def test_a_worker_pressed_to_the_chassis_front_is_a_person_and_the_arm_out_to_th
     assert circle.people.confident() == ()
 
 
-def test_the_robots_own_returns_are_those_its_outline_holds_wherever_it_stands():
-    """``on_robot`` tests only the returns within the outline's reach (and the margin's corner):
-    the same returns as the outline holds when every one is turned into the base frame."""
-    arm = Capsules(np.array([[[0.05, 0.0], [0.2, 0.3]], [[0.2, 0.3], [0.1, 0.45]]]), 0.03)
-    walls, _ = scene()
-    people = People(PeopleConfig(), lambda: None, lambda: ODOM, MOUNT, Pose2D, lambda: mapped(walls),
-                    lambda: Outline(0.165, 0.13, arm), 0.05)
-    rng = np.random.default_rng(3)
-    held = 0
-    for yaw in np.linspace(-math.pi, math.pi, 9):
-        odom = Pose2D(1.0, 2.5, float(yaw))
-        p = np.array([odom.x, odom.y]) + rng.uniform(-0.7, 0.7, (3000, 2))
-        c, s = math.cos(yaw), math.sin(yaw)
-        dx, dy = p[:, 0] - odom.x, p[:, 1] - odom.y
-        want = Outline(0.165, 0.13, arm).inside(c * dx + s * dy, c * dy - s * dx, 0.05)
-        got = people.on_robot(p, odom)
-        assert (got == want).all()
-        held += int(got.sum())
-    assert held > 2000
-
-
 def test_a_wall_the_first_map_lacked_is_taken_in_from_slam_but_a_standing_worker_never_is():
     walls, pots = scene()
     east = walls.walls.pop(1)  # the first map never saw the east wall behind its pots
