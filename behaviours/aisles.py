@@ -3,7 +3,7 @@ yield, back out of the aisle the robot is in); one leaf before each drive of a f
 
 The leaf plans the leg (the planner on the global costmap, as the navigator will), asks the
 arbiter for every aisle on the way without waiting for the answer (the gate's
-``client.ask_later``: it lands on Zenoh's thread and the leaf polls it on its ticks), and on a
+``ask``: it lands on Zenoh's thread and the leaf polls it on its ticks), and on a
 refusal drives to where the gate says to wait and stays there, asking again every ``retry`` s
 (a later refusal, planned from the wait, never moves it deeper). What to ask and
 where to wait are the gate's (``mission.patrol.aisle_gate``, passed in: behaviours sit below
@@ -88,6 +88,8 @@ class EnterAisles(py_trees.behaviour.Behaviour):
         return Status.RUNNING
 
     def _ask(self) -> Status:
+        if self.gate.asking:  # the gate's last request (a let-go) is still out: one at a time
+            return Status.RUNNING
         here, goal = self.nav.map_pose(), self.goal()
         try:
             path = self.nav.planner.plan(self.nav.global_costmap.grid, (here.x, here.y), (goal.x, goal.y))
@@ -98,7 +100,7 @@ class EnterAisles(py_trees.behaviour.Behaviour):
         if not self._want and not self.gate.held:
             self._wait_over(self.clock.now())
             return Status.SUCCESS  # no aisle on the way, none held: nothing to ask
-        self._path, self._pending = path, self.gate.client.ask_later(self._want)
+        self._path, self._pending = path, self.gate.ask(self._want)
         return Status.RUNNING
 
     def terminate(self, new_status: Status) -> None:

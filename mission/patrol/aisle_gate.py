@@ -17,6 +17,13 @@ navigator's filter of the global costmap): a replan around a robot or a person i
 never takes it into another's aisle, the failure Open-RMF's users meet as a robot entering a
 locked lane (measured here: two robots crossing at their docks swapped aisles that way). With no arbiter in the fleet (no dispatcher, a robot alone) there is no gate at
 all: the patrol tree is built without one.
+
+One request is in flight at a time (``ask``): each asks to hold exactly its aisles, so what the
+robot believes it holds (``held``, set as each is sent or granted) is what the arbiter holds only
+while no request overtakes an answer. With two at once, a let-go of the aisles behind (``progress``,
+from what was held) sent while a leg's request was out came after its grant and freed the leg's
+aisles while the robot drove into them: two robots in one aisle, measured on
+``tests/fleet/test_fleet_aisles.py`` with the machine loaded (CI at stop 63, and 1 run in 6 here).
 """
 from __future__ import annotations
 
@@ -25,7 +32,7 @@ from typing import Callable
 
 import numpy as np
 
-from mission.link.aisle_client import AisleLockClient, Answer
+from mission.link.aisle_client import AisleLockClient, Answer, Pending
 from mission.patrol.aisle_outlines import NO_AISLE, AisleOutlines
 from nav.costmap.grid import LETHAL, CostGrid
 
@@ -60,6 +67,8 @@ class AisleGate:
         self.held: list[int] = []
         """The aisles the arbiter last granted this robot (and not let go since)."""
         self._masks: dict[tuple, np.ndarray] = {}
+        self._asking: Pending | None = None
+        """The request in flight, if any (module docstring)."""
         self.wait_s, self.waits, self.yields = 0.0, 0, 0
         """Seconds this patrol waited for aisles, the waits, and how many of them began with a yield."""
 
@@ -100,14 +109,30 @@ class AisleGate:
         data[self._masks[key]] = LETHAL
         return CostGrid(data, grid.resolution, grid.origin_x, grid.origin_y)
 
+    @property
+    def asking(self) -> bool:
+        """Is a request still in flight (answered or timed out: not)?"""
+        return self._asking is not None and not self._asking.answered.is_set()
+
+    def ask(self, aisles: list[int]) -> Pending | None:
+        """Ask to hold exactly ``aisles``, without waiting for the answer; None, sending
+        nothing, while another request is in flight (ask again on a later tick)."""
+        if self.asking:
+            return None
+        self._asking = self.client.ask_later(aisles)
+        return self._asking
+
     def verdict(self, path: np.ndarray, want: list[int], answer: Answer | None,
                 lengths_from_here: Callable[[np.ndarray], np.ndarray]) -> Verdict:
         """What the robot at ``path[0]`` does on ``answer`` to its request for ``want`` (None:
         none came, as refused). ``lengths_from_here``: the planner's path lengths from the
-        robot to points (inf: unreachable), to wait and back out by."""
+        robot to points (inf: unreachable), to wait and back out by. With no answer the arbiter
+        may have granted it or not: the robot counts on holding only what it held either way."""
         if answer is not None and answer.granted:
             self.held = want
             return Verdict(True)
+        if answer is None:
+            self.held = [a for a in self.held if a in want]
         if answer is not None and answer.yield_:
             return Verdict(False, self._open_ground(path[0], lengths_from_here), back_out=True, held_by=answer.held_by)
         return Verdict(False, self._outside(path, lengths_from_here), held_by=answer.held_by if answer is not None else None)
@@ -116,20 +141,25 @@ class AisleGate:
         """Ask for ``path``'s aisles and wait for the answer (a tool, a test; the patrol asks
         without waiting: ``behaviours.aisles``)."""
         want = self.want(path)
+        if self._asking is not None:  # one at a time, this one too
+            self._asking.answered.wait(self.client.timeout + 1.0)
         return self.verdict(path, want, self.client.ask(want), lengths_from_here)
 
-    def backed_out(self) -> None:
-        """On open ground after yielding: let go of every aisle."""
-        self.client.ask_later([])
+    def backed_out(self) -> bool:
+        """On open ground after yielding, or at the patrol's end: let go of every aisle. False
+        while another request is in flight (nothing sent: call again on a later tick)."""
+        if self.ask([]) is None:
+            return False
         self.held = []
+        return True
 
     def progress(self, ahead: np.ndarray) -> None:
         """Driving, ``ahead`` (K, 2) the path left from the robot: let go of the aisles behind,
-        ``CLEAR`` of it (asking for fewer than it holds is always granted)."""
+        ``CLEAR`` of it (asking for fewer than it holds is always granted); while another
+        request is in flight, on a later call."""
         near = self.outlines.near(ahead, CLEAR)
         keep = [a for a in self.held if a in near]
-        if keep != self.held:
-            self.client.ask_later(keep)
+        if keep != self.held and self.ask(keep) is not None:
             self.held = keep
 
     def _outside(self, path: np.ndarray, lengths_from_here: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:

@@ -271,7 +271,7 @@ class PatrolTree:
             steps.insert(0, Selector("unless parked", memory=True, children=[
                 Check("parked clear of the aisles?", lambda: self.plan.parked is not None), home]))
         if self.gate is not None:
-            steps.append(Do("let go of the aisles", self.gate.backed_out))
+            steps.append(WaitUntil("let go of the aisles", self.gate.backed_out))
         return Sequence(name, memory=True, children=steps)
 
     def _to_dock(self, name: str) -> Retry:

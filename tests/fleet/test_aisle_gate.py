@@ -10,9 +10,9 @@ import time
 import numpy as np
 import pytest
 
-from fleet.aisle_locks import AisleLockServer
+from fleet.aisle_locks import AisleLockServer, AisleTable
 from fleet.aisles import find_aisles, outlines
-from mission.link.aisle_client import AisleLockClient
+from mission.link.aisle_client import AisleLockClient, Pending
 from mission.link.wire import alive_key
 from mission.patrol.aisle_gate import CLEAR, MOUTH, SIDE, AisleGate
 from mission.patrol.aisle_outlines import NO_AISLE, AisleOutlines
@@ -49,6 +49,61 @@ def test_outlines_hold_what_the_aisle_map_does():
     assert (truth == got).mean() >= 0.97  # a boundary cell's half may fall either side
     path = _path((1.0, 0.5), (6.0, 0.5), (6.0, 3.5))
     assert shapes.along(path) == found.along(path)
+
+
+class SlowLink:
+    """The arbiter's table behind a link whose answers land only when the test says
+    (``land``), in the order the requests were sent."""
+
+    def __init__(self, table: AisleTable, robot: str):
+        self.table, self.robot, self.out = table, robot, []
+
+    def ask_later(self, aisles: list[int]) -> Pending:
+        self.out.append(Pending(aisles))
+        return self.out[-1]
+
+    def land(self, answered: bool = True) -> None:
+        pending = self.out.pop(0)
+        if answered:
+            pending.answer = self.table.request(self.robot, pending.aisles)
+        pending.answered.set()
+
+
+def test_a_let_go_waits_for_the_request_in_flight_so_the_arbiter_and_the_robot_agree_on_what_it_holds():
+    """A leg's request for A and B goes out from A; the robot's body leaves A before the answer
+    lands. Sent then, the let-go of A (from what was held: nothing) would land after the grant
+    and free A and B at the arbiter while the robot drove in; it waits, and goes once the grant
+    is in."""
+    shapes, a, b = _outlines()
+    table = AisleTable(lambda: 0.0)
+    link = SlowLink(table, "r1")
+    gate = AisleGate(link, shapes)
+    assert table.request("r1", [a]).granted
+    gate.held = [a]
+    leg = gate.ask([a, b])
+    assert gate.asking and gate.ask([b]) is None  # one at a time
+    gate.progress(np.array([[3.5, 2.5]]))  # clear of A: nothing sent while the leg's request is out
+    assert len(link.out) == 1 and gate.held == [a]
+    link.land()
+    assert gate.verdict(_path((3.5, 1.5), (3.5, 2.5)), leg.aisles, leg.answer, _straight(np.array([3.5, 1.5]))).go
+    assert gate.held == [a, b] and table.held() == {a: "r1", b: "r1"}
+    gate.progress(np.array([[3.5, 2.5]]))  # now it goes
+    link.land()
+    assert gate.held == [b] and table.held() == {b: "r1"}
+    assert gate.backed_out() and gate.held == [] and gate.asking
+    link.land()
+    assert table.held() == {} and not gate.asking
+
+
+def test_with_no_answer_the_robot_counts_only_on_what_it_held_either_way():
+    shapes, a, b = _outlines()
+    link = SlowLink(AisleTable(lambda: 0.0), "r1")
+    gate = AisleGate(link, shapes)
+    gate.held = [a]
+    pending = gate.ask([b])
+    link.land(answered=False)  # timed out: granted (holds B) or not (holds A), unknown
+    verdict = gate.verdict(_path((6.0, 1.5), (3.5, 2.5)), pending.aisles, pending.answer, _straight(np.array([6.0, 1.5])))
+    assert not verdict.go and gate.held == []
 
 
 @pytest.fixture
