@@ -2,7 +2,9 @@
 
 The hardware twin of ``mission.runtime.sim_runtime``: every device is opened first (a missing
 one is one ``InputError`` naming it, before anything moves), then the services are scheduled
-and navigation attached. ``close`` shuts the services down, then releases the devices.
+and navigation attached. Before the first device opens, the loop's compiled kernels are
+compiled (``mission.runtime.warm_up``: minutes on the first start after an install). ``close``
+shuts the services down, then releases the devices.
 """
 from __future__ import annotations
 
@@ -13,6 +15,7 @@ from mission.runtime.config import LupinConfig
 from mission.runtime.navigation import attach_navigation
 from mission.runtime.robot import Robot, build_robot, check_monitor_switch
 from mission.runtime.state_dir import state_directory
+from mission.runtime.warm_up import warm_up
 from nav.navigator import Navigator
 
 
@@ -33,6 +36,7 @@ def start_hw_runtime(config: LupinConfig, monitor_off: bool = False, **boundarie
     ``boundaries``: ``HwBackend``'s I2C bus and GPIO requests (the device emulators, in tests)."""
     check_monitor_switch(config, True, monitor_off)
     state = state_directory(config.runtime, "hw")  # before any device opens: no latch, no start
+    warm_up(config)  # before any device opens: the loop never stops to compile (mission.runtime.warm_up)
     backend = HwBackend(config.hw, **boundaries)
     try:
         robot = build_robot(config, backend.hal, state=state, on_robot=True, monitor_off=monitor_off)
