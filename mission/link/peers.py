@@ -16,7 +16,8 @@ carried away is an obstacle where it stood until it speaks (a false obstacle cos
 forgotten one a collision). Not heard from for ``SILENT`` s, it is ``silent``: a robot that
 stands still there, kept out of by less (``nav.costmap.robots``). Silence is the link's, so it is
 timed on the wall clock the runtime is given (``Service.wall_now``), not the robot's: a fleet sim
-running faster than real time can outrun the router.
+running faster than real time can outrun the router, which is why it waits for the poses
+(``behind``: each message carries its sender's clock).
 Messages arrive on Zenoh's thread; the runtime reads a copy.
 """
 from __future__ import annotations
@@ -52,13 +53,16 @@ def where_key(robot: str) -> str:
     return f"lupin/{robot}/where"
 
 
-def read_where(payload: bytes) -> Pose2D | None:
-    """The pose in a ``where`` message; None for anything else (ignored, never an obstacle's end)."""
+def read_where(payload: bytes) -> tuple[Pose2D, float] | None:
+    """The pose in a ``where`` message and its stamp (the sender's clock, s); None for anything
+    else (ignored, never an obstacle's end)."""
     try:
-        x, y, yaw = (float(v) for v in json.loads(payload)["pose"])
-    except (ValueError, KeyError, TypeError):
+        msg = json.loads(payload)
+        x, y, yaw = (float(v) for v in msg["pose"])
+        t = float(msg.get("t", math.nan))
+    except (ValueError, KeyError, TypeError, AttributeError):
         return None
-    return Pose2D(x, y, yaw) if all(map(math.isfinite, (x, y, yaw))) else None
+    return (Pose2D(x, y, yaw), t) if all(map(math.isfinite, (x, y, yaw))) else None
 
 
 class Peers:
@@ -73,14 +77,16 @@ class Peers:
         """Each other robot's last pose, fleet frame."""
         self._heard: dict[str, float] = {}
         """When (``clock``) each other robot was last heard from."""
+        self._stamp: dict[str, float] = {}
+        """The stamp (the sender's clock) of each other robot's last pose."""
         self._sub = session.declare_subscriber(WHERE, self._on_sample)
 
     def _on_sample(self, sample: zenoh.Sample) -> None:
         robot = str(sample.key_expr).split("/")[1]
-        pose = read_where(sample.payload.to_bytes())
-        if robot != self.robot and pose is not None:
+        heard = read_where(sample.payload.to_bytes())
+        if robot != self.robot and heard is not None:
             with self._lock:
-                self._last[robot] = pose
+                self._last[robot], self._stamp[robot] = heard
                 self._heard[robot] = self.clock()
 
     def tell(self, map_pose: Pose2D, now: float) -> None:
@@ -100,6 +106,13 @@ class Peers:
             q = compose(self._from_fleet, pose)
             out.append(Peer(name, q.x, q.y, q.yaw, name in silent))
         return out
+
+    def behind(self, now: float, lag: float) -> bool:
+        """Is a robot that is not silent last heard from at a stamp before ``now - lag`` (the
+        shared clock of a fleet sim, ``mission.jobs.fleet_sim``)?"""
+        with self._lock:
+            wall = self.clock()
+            return any(self._stamp[r] < now - lag for r in self._last if wall - self._heard[r] <= SILENT)
 
     def attach(self, nav, scheduler) -> None:
         """Tell ``nav``'s pose at ``RATE`` on ``scheduler`` and keep the others out of both of

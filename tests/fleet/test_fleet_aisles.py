@@ -94,7 +94,7 @@ def _patrols(pots_of: dict[str, list[str]], router, certs, tmp_path) -> set[str]
         assert together == [], f"two robots in one aisle: {together[:5]}"
         for r, s in fleet.services.items():
             report = json.loads(s.report_path.read_text())
-            assert s.outcome == "completed", (r, report["pots"], report["anomalies"], report.get("aisles"))
+            assert s.outcome == "completed", (r, report.get("reason"), report.get("notes"), [(p["id"], p["status"]) for p in report["pots"]])
             assert sorted((p["id"], p["status"]) for p in report["pots"]) == sorted((p, "inspected") for p in pots_of[r])
             assert (report["aisles"]["wait_s"] > 0) == (r in waited), report["aisles"]  # the report says who waited
         assert wait_for(lambda: arbiter.table.held() == {})  # home, both let go
