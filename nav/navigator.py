@@ -73,6 +73,7 @@ from nav.goal_checker import GoalChecker
 from nav.localisation import Localisation
 from nav.mppi.controller import NoValidControl
 from nav.planner import PlanningError, StartBlocked
+from nav.turning_places import close_turns
 from nav.readiness import Readiness
 from nav.smoother import VelocitySmoother
 
@@ -339,7 +340,7 @@ class Navigator(Waits, WayOut, Recovery):
             grid = self.global_costmap.grid
             if self.keep_out is not None:
                 grid = self.keep_out(grid, (pose.x, pose.y))
-            self.path = self._plan(grid, pose)
+            self.path = self._plan_round_turns(grid, pose)
         except StartBlocked:
             self._start_blocked = not self._only_people_block(pose)
             self._person_blocks = not self._start_blocked
@@ -362,6 +363,18 @@ class Navigator(Waits, WayOut, Recovery):
         self._replans += 1
         self._last_plan = now
         return True
+
+    def _plan_round_turns(self, grid: CostGrid, pose: Pose2D) -> np.ndarray:
+        """The plan round the places where people who pace turn (``nav.turning_places``), else,
+        with no way round, through them."""
+        closed = close_turns(grid, self.people.turns_in_map(), self.people.robot_radius,
+                             ((pose.x, pose.y), (self.goal.x, self.goal.y)))
+        if closed is not None:
+            try:
+                return self._plan(closed, pose)
+            except PlanningError:
+                pass
+        return self._plan(grid, pose)
 
     def _follow(self, pose: Pose2D, now: float, dt: float) -> None:
         odom_from_map = inverse(self.localisation.map_to_odom())

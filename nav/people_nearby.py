@@ -70,6 +70,14 @@ class PeopleNearby:
         now, then = transform_points(m2o, now), transform_points(m2o, then)
         return [(a, b, self.keep_out(p)) for a, b, p in zip(now, then, people)]
 
+    def turns_in_map(self) -> list[tuple[float, float, float]]:
+        """(x, y, reach) of where people turned round lately (``nav.walks.Walks.turns``), map frame."""
+        turns = self.people.turns()
+        if not turns:
+            return []
+        xy = transform_points(self.map_to_odom(), np.array([t[:2] for t in turns], dtype=float))
+        return [(float(x), float(y), t[2]) for (x, y), t in zip(xy, turns)]
+
     def in_keep_out(self, x: float, y: float, ahead: bool = True, people: list[Person] | None = None) -> bool:
         """Is the map point within a person's keep-out (of everyone counted, or of ``people``),
         their next steps included (``ahead``) or where they are now only?"""
