@@ -70,7 +70,7 @@ MIN_PATROLS = 3
 (stop 51: the first patrol brought 224 encounters, and the second's ten contacts went uncounted)."""
 MAX_WORLDS = 100
 """Seeds tried at most (a run that cannot reach the count says so rather than running on)."""
-TRACED_SEEDS = (1, 2, 3, 4, 101, 102, 103, 104, 105, 106, 107, 108, 109, 110, 111, 113, 115)
+TRACED_SEEDS = (1, 2, 3, 4, 101, 102, 103, 104, 105, 106, 107, 108, 109, 110, 111, 113, 114, 115)
 """World seeds whose patrols the people rules were traced and mended on (module docstring): 101-103
 were the held-out worlds until stop 53 traced their least passes (a cart turning round beside a
 waiting robot) to mend them, so from then on the figure is on the next seeds; 105 at stop 54,
@@ -82,7 +82,8 @@ towards its corner, ``hw.people_guard``; a pot given up after one later go besid
 ``patrol.later_goes``); 113 at stop 61 (a robot held still for 2,400 s between a standing
 worker and a cart that waited for it, ``hw.people_guard``'s ``escape`` and ``ring_closing``); 115
 at stop 62 (a worker who walked up to the robot's front, their legs hidden by the tracker's 0.25 m
-self-filter circle, ``mission.runtime.people.People.on_robot``)."""
+self-filter circle, ``mission.runtime.people.People.on_robot``); 114 at stop 64 (two pacers turning at
+the bay divider's north end, the one short way between the bays, ``nav.turning_places``)."""
 ROWS, PER_ROW, BAYS = 6, 4, 2
 CLOSEST = 5
 """The nearest passes while moving listed with where and when they happened."""
