@@ -2,6 +2,8 @@
 
 A module per idea:
 
+- :mod:`perception.people.returns`: a scan's returns placed in odom, off the robot's outline,
+  and carried into the map, in one compiled pass.
 - :mod:`perception.people.explained`: :class:`StaticScene`, which returns the map at patrol
   start and the known pots account for (and why not the live SLAM map).
 - :mod:`perception.people.segments`: the scan split at range jumps into segments.
@@ -18,7 +20,8 @@ The per-scan work (the scene lookup, segments, fits, bodies, leg shapes, the ass
 the Kalman update) is compiled with numba, each module's kernel beside its idea: at the scan
 rate the array versions' hundreds of small numpy calls cost three times the arithmetic
 (``lupin bench perception.people`` at stop 63 on a quiet machine: 2.61-2.66 -> 0.72-0.93 ms a
-scan median, the same tracks to 1e-14).
+scan median, the same tracks to 1e-14; at stop 64, the returns' passes and the tracker's step
+compiled whole, 0.49-0.58 ms median and 0.78-0.81 ms p95).
 
 Only hw/ is imported from below: the tracker hands its tracks down as ``hw.people.Person``. It
 runs on the robot's CPU with no learned weights (the issue: nothing fetched at run time).
