@@ -2,9 +2,9 @@
 
 The hardware twin of ``mission.runtime.sim_runtime``: every device is opened first (a missing
 one is one ``InputError`` naming it, before anything moves), then the services are scheduled
-and navigation attached. Before the first device opens, the loop's compiled kernels are
-compiled (``mission.runtime.warm_up``: minutes on the first start after an install). ``close``
-shuts the services down, then releases the devices.
+and navigation attached. Between the two, the loop's compiled kernels are compiled
+(``mission.runtime.warm_up``: minutes on the first start after an install; after the devices,
+so a missing one is said at once). ``close`` shuts the services down, then releases the devices.
 """
 from __future__ import annotations
 
@@ -36,9 +36,9 @@ def start_hw_runtime(config: LupinConfig, monitor_off: bool = False, **boundarie
     ``boundaries``: ``HwBackend``'s I2C bus and GPIO requests (the device emulators, in tests)."""
     check_monitor_switch(config, True, monitor_off)
     state = state_directory(config.runtime, "hw")  # before any device opens: no latch, no start
-    warm_up(config)  # before any device opens: the loop never stops to compile (mission.runtime.warm_up)
     backend = HwBackend(config.hw, **boundaries)
     try:
+        warm_up(config)  # nothing scheduled yet: the loop never stops to compile (mission.runtime.warm_up)
         robot = build_robot(config, backend.hal, state=state, on_robot=True, monitor_off=monitor_off)
         robot.start()
         return HwRuntime(backend, robot, attach_navigation(robot))

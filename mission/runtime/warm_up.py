@@ -9,7 +9,8 @@ tick: 0.8 ms), and the MPPI and costmap kernels followed on the first drive. On 
 loop standing still for minutes, the wheels cut by their watchdog and the link silent, the first
 time a grower starts it.
 
-So the hardware runtime calls ``warm_up`` before it opens a device: the kernels the loop calls
+So the hardware runtime calls ``warm_up`` once its devices are open (a missing one is said at
+once) and before it schedules anything: the kernels the loop calls
 (the people tick, the costmaps, the planner, MPPI and the collision monitor's outline; SLAM's
 worker has its own, ``nav.slam.worker.warm_up``) run once on a synthetic scan of a small walled
 room with a person in it, through the same code and so with the same argument types as on the
