@@ -3,7 +3,7 @@
 The hardware twin of ``mission.runtime.sim_runtime``: every device is opened first (a missing
 one is one ``InputError`` naming it, before anything moves), then the services are scheduled
 and navigation attached. Between the two, the loop's compiled kernels are compiled
-(``mission.runtime.warm_up``: minutes on the first start after an install; after the devices,
+(``mission.runtime.warm_up``: 40 s on the first start after an install; after the devices,
 so a missing one is said at once). ``close`` shuts the services down, then releases the devices.
 """
 from __future__ import annotations
