@@ -22,8 +22,8 @@ One request is in flight at a time (``ask``): each asks to hold exactly its aisl
 robot believes it holds (``held``, set as each is sent or granted) is what the arbiter holds only
 while no request overtakes an answer. With two at once, a let-go of the aisles behind (``progress``,
 from what was held) sent while a leg's request was out came after its grant and freed the leg's
-aisles while the robot drove into them: two robots in one aisle, measured on
-``tests/fleet/test_fleet_aisles.py`` with the machine loaded (CI at stop 63, and 1 run in 6 here).
+aisles while the robot drove into them: two robots in one aisle, in 1 run of 6 of
+``tests/fleet/test_fleet_aisles.py`` with the machine loaded (stop 64).
 """
 from __future__ import annotations
 
