@@ -128,9 +128,7 @@ class Death:
             return
         done = sum(p["status"] == "inspected" for p in run.report.pots.values())
         if done >= self.share * len(run.tree.mission.pots):
-            link = next(k for k in self.fleet.links if k.config.robot == self.name)
-            self.fleet.links.remove(link)
-            link.close()
+            self.fleet.leave(self.name)
             service.estop(True)
             self.at_s = round(service.now, 1)
 

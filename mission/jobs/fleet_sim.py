@@ -14,7 +14,6 @@ paces that one engine to the wall clock; ``--fast`` lets it run as fast as the m
 from __future__ import annotations
 
 import threading
-import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -33,9 +32,14 @@ from sim.world import World
 
 
 LINK_LAG = 0.3
-"""Sim seconds a robot's link may lag the others' poses: three of their 10 Hz poses (``mission.link.peers``)."""
+"""Sim seconds a robot's link may lag the others' poses: three of their 10 Hz poses
+(``mission.link.peers``). Lock-step runs the engine as fast as the machine allows, so a pose on
+the router's way took sim seconds, not milliseconds: on a loaded machine (CI,
+``tests/fleet/test_fleet_aisles.py``) r1 saw r2 metres from where r2 had said it stood, took it
+for a person, and its way home stayed closed to it. On robots the link's delay is a few ms;
+here it is held to what a robot's would be."""
 HEAR_WAIT = 1.0
-"""Wall seconds a step waits for them at most (a robot whose link is down is silent after
+"""Seconds a step waits for them at most (a robot whose link is down is silent after
 ``peers.SILENT`` and no longer waited for)."""
 
 
@@ -45,38 +49,36 @@ class FleetSim:
     services: dict[str, Service]
     """Each robot's service, by name, in robot order."""
     links: list[LinkServer] = field(default_factory=list)
+    _peers: dict = field(default_factory=dict)
+    """Each joined robot's ``mission.link.peers.Peers``, by name."""
 
     def step(self) -> None:
         """One step of the runtime due first, its log records its own (``LOGGING_ROBOT``); on a
-        router, once its link has heard the others' poses of ``LINK_LAG`` ago (``_hear``)."""
+        router, once its link has heard the others' poses of ``LINK_LAG`` ago (``LINK_LAG`` says why)."""
         name, service = min(self.services.items(), key=lambda item: item[1].robot.scheduler.next_due())
-        if self.links:
-            self._hear(self.links[list(self.services).index(name)], service.robot.scheduler.next_due())
+        peers = self._peers.get(name)
+        if peers is not None:
+            peers.hear(service.robot.scheduler.next_due(), LINK_LAG, HEAR_WAIT)
         token = LOGGING_ROBOT.set(name)
         try:
             service.step()
         finally:
             LOGGING_ROBOT.reset(token)
 
-    @staticmethod
-    def _hear(link: LinkServer, due: float) -> None:
-        """Wait (``HEAR_WAIT`` wall s at most) until ``link`` has heard every robot still talking
-        at a stamp ``LINK_LAG`` or less before ``due``. Lock-step runs the engine as fast as the
-        machine allows, so a pose on the router's way took sim seconds, not milliseconds: on a
-        loaded machine (CI, ``tests/fleet/test_fleet_aisles.py``) r1 saw r2 metres from where r2
-        had said it stood, took it for a person, and its way home stayed closed to it. On robots
-        the link's delay is a few ms; here it is held to what a robot's would be."""
-        if link.peers is None:
-            return
-        give_up = time.monotonic() + HEAR_WAIT
-        while link.peers.behind(due, LINK_LAG) and time.monotonic() < give_up:
-            time.sleep(0.0005)
-
     def join(self, endpoint: str, tls: Callable[[str], TlsFiles | None], token: str | None) -> None:
         """Each robot's link joins the router at ``endpoint`` under its name (``tls(name)``: its
         certificate; ``token``: the operator token its commands need, None for none)."""
         for name, service in self.services.items():
             self.links.append(LinkServer(service, service.config.link, token, connect=endpoint, tls=tls(name)))
+            if self.links[-1].peers is not None:
+                self._peers[name] = self.links[-1].peers
+
+    def leave(self, name: str) -> None:
+        """Robot ``name``'s link closed and off the fleet (its runtime steps on, unheard)."""
+        link = next(k for k in self.links if k.config.robot == name)
+        self.links.remove(link)
+        self._peers.pop(name, None)
+        link.close()
 
     def close(self) -> None:
         """The links first (no command reaches a runtime being closed), then the runtimes."""

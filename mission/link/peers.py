@@ -17,7 +17,7 @@ forgotten one a collision). Not heard from for ``SILENT`` s, it is ``silent``: a
 stands still there, kept out of by less (``nav.costmap.robots``). Silence is the link's, so it is
 timed on the wall clock the runtime is given (``Service.wall_now``), not the robot's: a fleet sim
 running faster than real time can outrun the router, which is why it waits for the poses
-(``behind``: each message carries its sender's clock).
+(``hear``: each message carries its sender's clock).
 Messages arrive on Zenoh's thread; the runtime reads a copy.
 """
 from __future__ import annotations
@@ -73,6 +73,8 @@ class Peers:
         self.outbox, self.robot, self.dock, self.clock = outbox, robot, dock, clock
         self._from_fleet = inverse(dock)
         self._lock = threading.Lock()
+        self._told = threading.Condition(self._lock)
+        """Notified with every pose heard (``hear`` waits on it)."""
         self._last: dict[str, Pose2D] = {}
         """Each other robot's last pose, fleet frame."""
         self._heard: dict[str, float] = {}
@@ -85,9 +87,10 @@ class Peers:
         robot = str(sample.key_expr).split("/")[1]
         heard = read_where(sample.payload.to_bytes())
         if robot != self.robot and heard is not None:
-            with self._lock:
+            with self._told:
                 self._last[robot], self._stamp[robot] = heard
                 self._heard[robot] = self.clock()
+                self._told.notify_all()
 
     def tell(self, map_pose: Pose2D, now: float) -> None:
         """Put this robot's pose (map frame, its own belief) on its key, in the fleet's frame."""
@@ -111,8 +114,17 @@ class Peers:
         """Is a robot that is not silent last heard from at a stamp before ``now - lag`` (the
         shared clock of a fleet sim, ``mission.jobs.fleet_sim``)?"""
         with self._lock:
-            wall = self.clock()
-            return any(self._stamp[r] < now - lag for r in self._last if wall - self._heard[r] <= SILENT)
+            return self._behind(now, lag)
+
+    def hear(self, now: float, lag: float, timeout: float) -> bool:
+        """Wait until no robot is ``behind``, woken by each pose heard, ``timeout`` s at most;
+        whether none is."""
+        with self._told:
+            return self._told.wait_for(lambda: not self._behind(now, lag), timeout)
+
+    def _behind(self, now: float, lag: float) -> bool:
+        wall = self.clock()
+        return any(self._stamp[r] < now - lag for r in self._last if wall - self._heard[r] <= SILENT)
 
     def attach(self, nav, scheduler) -> None:
         """Tell ``nav``'s pose at ``RATE`` on ``scheduler`` and keep the others out of both of

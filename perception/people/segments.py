@@ -9,7 +9,6 @@ twice a scan, and its dozen array calls cost more than the arithmetic).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
 
 import math
 
@@ -31,11 +30,6 @@ class Segments:
     """(S, 2) lower-left corner of each segment's bounding box."""
     hi: np.ndarray
     """(S, 2) upper-right corner."""
-
-    @cached_property
-    def width(self) -> np.ndarray:
-        """Bounding-box diagonal of each segment, m."""
-        return np.hypot(*(self.hi - self.lo).T)
 
 
 def unwrap(points: np.ndarray) -> np.ndarray:

@@ -152,7 +152,7 @@ def reference_bodies(points: np.ndarray, robot: np.ndarray, c: PeopleConfig) -> 
     ``depth`` away from the robot."""
     segs = split(points, np.hypot(*(points - robot).T), c.jump, c.jump_per_metre)
     kept = [k for k in range(len(segs.count)) if segs.count[k] >= c.min_segment_points]
-    leg = {k: segs.width[k] <= c.leg_width for k in kept}
+    leg = {k: math.dist(segs.lo[k], segs.hi[k]) <= c.leg_width for k in kept}  # the box's diagonal
 
     def linked(a: int, b: int) -> bool:
         gap = np.maximum(np.maximum(segs.lo[b] - segs.hi[a], segs.lo[a] - segs.hi[b]), 0.0)
